@@ -1,0 +1,140 @@
+//! The configuration every vref program reads: `config/vref.toml`.
+//!
+//! Unknown keys are errors (a misspelt key must not silently fall back to
+//! a default), and values are validated when loaded.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use vref_match::{MatchError, Params};
+use vref_scene::Limits;
+
+/// Environment variable naming a configuration file.
+pub const CONFIG_ENV: &str = "VREF_CONFIG";
+/// Where a program looks when neither `--config` nor the variable is given.
+pub const DEFAULT_PATH: &str = "config/vref.toml";
+
+/// Why a configuration could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    #[error("{path}: {source}")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Parse { path: PathBuf, message: String },
+    #[error("{path}: [matching] {source}")]
+    Matching {
+        path: PathBuf,
+        #[source]
+        source: MatchError,
+    },
+    #[error("{path}: [scene] {message}")]
+    Scene { path: PathBuf, message: String },
+}
+
+/// The whole file.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    pub scene: SceneConfig,
+    pub matching: Params,
+}
+
+/// What a valid scene graph may hold.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SceneConfig {
+    /// Most objects per view.
+    pub capacity: usize,
+    /// Largest absolute coordinate accepted, in position units.
+    pub max_abs_coordinate: f64,
+}
+
+impl Default for SceneConfig {
+    fn default() -> Self {
+        let limits = Limits::default();
+        Self {
+            capacity: limits.capacity,
+            max_abs_coordinate: limits.max_abs_coordinate,
+        }
+    }
+}
+
+impl SceneConfig {
+    pub fn limits(&self) -> Limits {
+        Limits {
+            capacity: self.capacity,
+            max_abs_coordinate: self.max_abs_coordinate,
+            require_objects: true,
+        }
+    }
+}
+
+/// Where a configuration came from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Source {
+    File(PathBuf),
+    BuiltIn,
+}
+
+impl Config {
+    /// Parses and validates configuration text; `path` names it in errors.
+    pub fn parse(text: &str, path: &Path) -> Result<Self, ConfigError> {
+        let config: Config = toml::from_str(text).map_err(|e| ConfigError::Parse {
+            path: path.to_owned(),
+            message: e.to_string().trim_end().to_owned(),
+        })?;
+        config.validate(path)?;
+        Ok(config)
+    }
+
+    /// Reads and validates the file at `path`.
+    pub fn from_file(path: &Path) -> Result<Self, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::parse(&text, path)
+    }
+
+    /// The configuration a program runs with: `explicit` (from `--config`)
+    /// if given, else the file named by `$VREF_CONFIG`, else
+    /// `config/vref.toml` if it exists, else the built-in defaults (which
+    /// are the values of the shipped `config/vref.toml`).
+    pub fn load(explicit: Option<&Path>) -> Result<(Self, Source), ConfigError> {
+        let chosen = explicit
+            .map(Path::to_path_buf)
+            .or_else(|| std::env::var_os(CONFIG_ENV).map(PathBuf::from))
+            .or_else(|| Some(PathBuf::from(DEFAULT_PATH)).filter(|p| p.exists()));
+        match chosen {
+            Some(path) => Ok((Self::from_file(&path)?, Source::File(path))),
+            None => Ok((Self::default(), Source::BuiltIn)),
+        }
+    }
+
+    fn validate(&self, path: &Path) -> Result<(), ConfigError> {
+        self.matching
+            .validate()
+            .map_err(|source| ConfigError::Matching {
+                path: path.to_owned(),
+                source,
+            })?;
+        let scene = |message: String| ConfigError::Scene {
+            path: path.to_owned(),
+            message,
+        };
+        if self.scene.capacity == 0 {
+            return Err(scene("capacity must be at least 1".to_owned()));
+        }
+        let max = self.scene.max_abs_coordinate;
+        if !(max.is_finite() && max > 0.0) {
+            return Err(scene(format!(
+                "max_abs_coordinate is {max}, but must be positive and finite"
+            )));
+        }
+        Ok(())
+    }
+}

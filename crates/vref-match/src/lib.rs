@@ -1,0 +1,34 @@
+//! Graph matching between the human view (rows) and the robot view
+//! (columns), exactly as ../shared/ALGORITHMS.md defines it: appearance and
+//! spatial affinities, Sinkhorn with slack, exact rectangular Hungarian, the
+//! methods `appearance`, `sm`, `rrwm` and `paper`, and the metrics.
+//!
+//! Pure computation: no IPC, no printing, no panics on input.
+//!
+//! A correspondence vector `x` is laid out row-major: entry `i * m + a`
+//! pairs human object `i` with robot object `a` (`n` human, `m` robot
+//! objects).
+
+mod appearance;
+mod error;
+mod evaluation;
+mod hungarian;
+mod methods;
+mod metrics;
+mod params;
+mod problem;
+mod sinkhorn;
+mod solution;
+mod spatial;
+
+pub use appearance::appearance_affinity;
+pub use error::MatchError;
+pub use evaluation::{Evaluation, MethodReport};
+pub use hungarian::{Hungarian, hungarian_max};
+pub use methods::{Method, solve};
+pub use metrics::{SceneScore, Stat, Summary, score_scene};
+pub use params::{PaperParams, Params, RrwmParams, SmParams};
+pub use problem::Problem;
+pub use sinkhorn::{Sinkhorn, sinkhorn_slack};
+pub use solution::Solution;
+pub use spatial::SpatialAffinity;

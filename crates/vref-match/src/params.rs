@@ -1,0 +1,161 @@
+use serde::{Deserialize, Serialize};
+
+use crate::MatchError;
+
+/// Every constant of ALGORITHMS.md, with its defaults.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Params {
+    /// Spatial bandwidth beta of Eq. 3, in squared position units.
+    pub beta: f64,
+    /// Sinkhorn: largest accepted deviation of a row or column sum.
+    pub sinkhorn_tol: f64,
+    /// Sinkhorn: most rounds.
+    pub sinkhorn_max_rounds: usize,
+    pub sm: SmParams,
+    pub rrwm: RrwmParams,
+    pub paper: PaperParams,
+}
+
+/// Spectral matching's power iteration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SmParams {
+    /// Stop when `||v_new - v||_2` falls below this.
+    pub tol: f64,
+    pub max_iter: usize,
+}
+
+/// Reweighted random walks.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RrwmParams {
+    /// Probability of a walk step rather than a reweighted jump.
+    pub c: f64,
+    /// Amplification of the jump distribution, `exp(amplification * y / max(y))`.
+    pub amplification: f64,
+    /// Stop when the squared change falls below this.
+    pub tol: f64,
+    pub max_iter: usize,
+}
+
+/// The paper's appearance-guided reweighted jumps (Algorithm 1).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PaperParams {
+    /// Weight of the jump term w against the appearance-driven z.
+    pub alpha: f64,
+    /// Weight of appearance inside w.
+    pub lambda1: f64,
+    /// Weight of spatial structure inside w.
+    pub lambda2: f64,
+    pub tol: f64,
+    pub max_iter: usize,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            beta: 0.01,
+            sinkhorn_tol: 1e-3,
+            sinkhorn_max_rounds: 1000,
+            sm: SmParams::default(),
+            rrwm: RrwmParams::default(),
+            paper: PaperParams::default(),
+        }
+    }
+}
+
+impl Default for SmParams {
+    fn default() -> Self {
+        Self {
+            tol: 1e-9,
+            max_iter: 1000,
+        }
+    }
+}
+
+impl Default for RrwmParams {
+    fn default() -> Self {
+        Self {
+            c: 0.2,
+            amplification: 30.0,
+            tol: 1e-20,
+            max_iter: 300,
+        }
+    }
+}
+
+impl Default for PaperParams {
+    fn default() -> Self {
+        Self {
+            alpha: 0.3,
+            lambda1: 0.5,
+            lambda2: 0.5,
+            tol: 1e-20,
+            max_iter: 300,
+        }
+    }
+}
+
+impl Params {
+    /// Refuses values the methods are not defined for.
+    pub fn validate(&self) -> Result<(), MatchError> {
+        positive("beta", self.beta)?;
+        positive("sinkhorn_tol", self.sinkhorn_tol)?;
+        positive("sm.tol", self.sm.tol)?;
+        positive("rrwm.tol", self.rrwm.tol)?;
+        positive("paper.tol", self.paper.tol)?;
+        unit("rrwm.c", self.rrwm.c)?;
+        unit("paper.alpha", self.paper.alpha)?;
+        unit("paper.lambda1", self.paper.lambda1)?;
+        unit("paper.lambda2", self.paper.lambda2)?;
+        // exp(amplification) must stay finite after Sinkhorn's products.
+        if !(self.rrwm.amplification > 0.0 && self.rrwm.amplification <= 300.0) {
+            return Err(MatchError::BadParameter {
+                name: "rrwm.amplification",
+                value: self.rrwm.amplification,
+                expected: "in (0, 300]",
+            });
+        }
+        for (name, count) in [
+            ("sinkhorn_max_rounds", self.sinkhorn_max_rounds),
+            ("sm.max_iter", self.sm.max_iter),
+            ("rrwm.max_iter", self.rrwm.max_iter),
+            ("paper.max_iter", self.paper.max_iter),
+        ] {
+            if count == 0 {
+                return Err(MatchError::BadParameter {
+                    name,
+                    value: 0.0,
+                    expected: "at least 1",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+fn positive(name: &'static str, value: f64) -> Result<(), MatchError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(MatchError::BadParameter {
+            name,
+            value,
+            expected: "positive and finite",
+        })
+    }
+}
+
+fn unit(name: &'static str, value: f64) -> Result<(), MatchError> {
+    if (0.0..=1.0).contains(&value) {
+        Ok(())
+    } else {
+        Err(MatchError::BadParameter {
+            name,
+            value,
+            expected: "in [0, 1]",
+        })
+    }
+}

@@ -1,0 +1,70 @@
+/// How a Sinkhorn normalisation ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sinkhorn {
+    /// Row-then-column rounds performed.
+    pub rounds: usize,
+    /// Whether every row and column sum came within the tolerance.
+    pub converged: bool,
+}
+
+/// Bistochastic normalisation of the row-major `n x m` matrix `x` in place
+/// (ALGORITHMS.md): rows and columns are scaled alternately until every sum
+/// is within `tol` of its target, at most `max_rounds` rounds.
+///
+/// When `n != m` the smaller side is padded with slack of value 1, so that
+/// real rows (or columns) with no partner are not forced to sum to 1. The
+/// padding is held as one slack row (or column) whose target is the number
+/// of missing rows (columns): `k` identical slack rows of target 1, as
+/// RRWM.m pads, scale identically and so give the same real entries.
+///
+/// Entries must be non-negative; a row or column summing to 0 is left as
+/// it is.
+pub fn sinkhorn_slack(x: &mut [f64], n: usize, m: usize, tol: f64, max_rounds: usize) -> Sinkhorn {
+    let rows = n + usize::from(n < m);
+    let cols = m + usize::from(m < n);
+    let mut padded = vec![1.0; rows * cols];
+    for i in 0..n {
+        padded[i * cols..i * cols + m].copy_from_slice(&x[i * m..(i + 1) * m]);
+    }
+    let row_target = |i: usize| if i < n { 1.0 } else { (m - n) as f64 };
+    let col_target = |a: usize| if a < m { 1.0 } else { (n - m) as f64 };
+
+    let mut outcome = Sinkhorn {
+        rounds: 0,
+        converged: false,
+    };
+    while outcome.rounds < max_rounds {
+        outcome.rounds += 1;
+        for i in 0..rows {
+            let row = &mut padded[i * cols..(i + 1) * cols];
+            let sum: f64 = row.iter().sum();
+            if sum > 0.0 {
+                let factor = row_target(i) / sum;
+                row.iter_mut().for_each(|v| *v *= factor);
+            }
+        }
+        for a in 0..cols {
+            let sum: f64 = padded.iter().skip(a).step_by(cols).sum();
+            if sum > 0.0 {
+                let factor = col_target(a) / sum;
+                padded
+                    .iter_mut()
+                    .skip(a)
+                    .step_by(cols)
+                    .for_each(|v| *v *= factor);
+            }
+        }
+        // Columns are exact after their pass; only rows can be off.
+        let worst = (0..rows)
+            .map(|i| (padded[i * cols..(i + 1) * cols].iter().sum::<f64>() - row_target(i)).abs())
+            .fold(0.0, f64::max);
+        if worst <= tol {
+            outcome.converged = true;
+            break;
+        }
+    }
+    for i in 0..n {
+        x[i * m..(i + 1) * m].copy_from_slice(&padded[i * cols..i * cols + m]);
+    }
+    outcome
+}

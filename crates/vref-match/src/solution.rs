@@ -1,0 +1,26 @@
+use vref_scene::SceneGraph;
+
+/// What a method found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// The method's soft correspondence, row-major `n x m`.
+    pub soft: Vec<f64>,
+    /// For each human object (row), the robot object (column) it is
+    /// matched to, or `None` for no partner.
+    pub assignment: Vec<Option<usize>>,
+    /// Iterations of the method's main loop (0 for closed-form methods).
+    pub iterations: usize,
+    /// Whether the main loop met its tolerance before its iteration limit.
+    pub converged: bool,
+}
+
+impl Solution {
+    /// The matched pairs as (human track id, robot track id).
+    pub fn id_pairs(&self, human: &SceneGraph, robot: &SceneGraph) -> Vec<(u64, u64)> {
+        self.assignment
+            .iter()
+            .enumerate()
+            .filter_map(|(i, a)| a.map(|a| (human.objects()[i].id, robot.objects()[a].id)))
+            .collect()
+    }
+}

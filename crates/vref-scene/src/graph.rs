@@ -1,0 +1,171 @@
+use std::collections::HashMap;
+
+use nalgebra::Point3;
+
+use crate::{GraphError, Limits};
+
+/// One object as a camera sees it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneObject {
+    /// Track id, stable over time within one view; ids of the two views are
+    /// unrelated.
+    pub id: u64,
+    /// Position in the camera's own frame (metres for live scenes, pixels
+    /// for image data sets: the matcher only uses distances).
+    pub position: Point3<f64>,
+    /// Appearance feature; empty means "no appearance information".
+    pub feature: Vec<f32>,
+}
+
+impl SceneObject {
+    pub fn new(id: u64, position: [f64; 3], feature: Vec<f32>) -> Self {
+        Self {
+            id,
+            position: Point3::from(position),
+            feature,
+        }
+    }
+}
+
+/// A validated graph of one view: unique ids, finite positions within the
+/// limits, one feature dimension, edges between known objects.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneGraph {
+    objects: Vec<SceneObject>,
+    /// Undirected edges as (smaller index, larger index), sorted and without
+    /// repeats; `None` means fully connected.
+    edges: Option<Vec<(usize, usize)>>,
+    feature_dim: usize,
+    index: HashMap<u64, usize>,
+}
+
+impl SceneGraph {
+    /// Validates `objects` and the optional edge list (pairs of object ids).
+    pub fn new(
+        objects: Vec<SceneObject>,
+        edges: Option<Vec<[u64; 2]>>,
+        limits: &Limits,
+    ) -> Result<Self, GraphError> {
+        if objects.is_empty() && limits.require_objects {
+            return Err(GraphError::Empty);
+        }
+        if objects.len() > limits.capacity {
+            return Err(GraphError::TooManyObjects {
+                count: objects.len(),
+                capacity: limits.capacity,
+            });
+        }
+        let feature_dim = objects.first().map_or(0, |o| o.feature.len());
+        let mut index = HashMap::with_capacity(objects.len());
+        for (i, object) in objects.iter().enumerate() {
+            check_object(object, feature_dim, limits)?;
+            if index.insert(object.id, i).is_some() {
+                return Err(GraphError::DuplicateId { id: object.id });
+            }
+        }
+        let edges = edges.map(|list| edge_indices(&list, &index)).transpose()?;
+        Ok(Self {
+            objects,
+            edges,
+            feature_dim,
+            index,
+        })
+    }
+
+    pub fn objects(&self) -> &[SceneObject] {
+        &self.objects
+    }
+
+    pub fn len(&self) -> usize {
+        self.objects.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.objects.is_empty()
+    }
+
+    /// Undirected edges by object index, or `None` when fully connected.
+    pub fn edges(&self) -> Option<&[(usize, usize)]> {
+        self.edges.as_deref()
+    }
+
+    /// Dimension of every feature of this graph (0: no features).
+    pub fn feature_dim(&self) -> usize {
+        self.feature_dim
+    }
+
+    /// Index of the object with track id `id`.
+    pub fn index_of(&self, id: u64) -> Option<usize> {
+        self.index.get(&id).copied()
+    }
+
+    /// The edge list by object ids, as a dataset file holds it.
+    pub fn edge_ids(&self) -> Option<Vec<[u64; 2]>> {
+        self.edges.as_ref().map(|edges| {
+            edges
+                .iter()
+                .map(|&(i, j)| [self.objects[i].id, self.objects[j].id])
+                .collect()
+        })
+    }
+}
+
+fn check_object(
+    object: &SceneObject,
+    feature_dim: usize,
+    limits: &Limits,
+) -> Result<(), GraphError> {
+    let id = object.id;
+    for (axis, &value) in object.position.coords.iter().enumerate() {
+        if !value.is_finite() {
+            return Err(GraphError::NonFinitePosition { id, axis, value });
+        }
+        if value.abs() > limits.max_abs_coordinate {
+            return Err(GraphError::AbsurdPosition {
+                id,
+                axis,
+                value,
+                limit: limits.max_abs_coordinate,
+            });
+        }
+    }
+    if object.feature.len() != feature_dim {
+        return Err(GraphError::FeatureDimMismatch {
+            id,
+            expected: feature_dim,
+            found: object.feature.len(),
+        });
+    }
+    if let Some((index, &value)) = object
+        .feature
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.is_finite())
+    {
+        return Err(GraphError::NonFiniteFeature { id, index, value });
+    }
+    Ok(())
+}
+
+fn edge_indices(
+    list: &[[u64; 2]],
+    index: &HashMap<u64, usize>,
+) -> Result<Vec<(usize, usize)>, GraphError> {
+    let mut edges = Vec::with_capacity(list.len());
+    for &[a, b] in list {
+        if a == b {
+            return Err(GraphError::SelfLoop { id: a });
+        }
+        let lookup = |id: u64| {
+            index
+                .get(&id)
+                .copied()
+                .ok_or(GraphError::UnknownEdgeEndpoint { a, b, unknown: id })
+        };
+        let (i, j) = (lookup(a)?, lookup(b)?);
+        edges.push((i.min(j), i.max(j)));
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    Ok(edges)
+}

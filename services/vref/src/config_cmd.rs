@@ -1,0 +1,10 @@
+use vref_config::Config;
+
+use crate::cli::ConfigCheckArgs;
+use crate::failure::{Blame, Failure};
+
+pub fn check(args: &ConfigCheckArgs) -> Result<(), Failure> {
+    Config::from_file(&args.file).bad_input()?;
+    println!("{}: ok", args.file.display());
+    Ok(())
+}

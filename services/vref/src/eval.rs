@@ -1,0 +1,89 @@
+use std::fs::File;
+use std::io::BufReader;
+
+use anyhow::{Context, anyhow};
+use vref_config::Config;
+use vref_match::{Evaluation, Method, MethodReport};
+use vref_scene::DatasetReader;
+
+use crate::cli::EvalArgs;
+use crate::failure::{Blame, Failure};
+use crate::table::Table;
+
+pub fn run(args: &EvalArgs) -> Result<(), Failure> {
+    let (config, source) = Config::load(args.config.as_deref()).bad_input()?;
+    tracing::info!(?source, "configuration");
+    let mut params = config.matching;
+    if let Some(beta) = args.beta {
+        params.beta = beta;
+    }
+    let methods = if args.methods.is_empty() {
+        Method::ALL.to_vec()
+    } else {
+        args.methods.clone()
+    };
+    let mut evaluation = Evaluation::new(&methods, params)
+        .context("--beta")
+        .bad_input()?;
+
+    let file = File::open(&args.dataset)
+        .with_context(|| format!("opening {}", args.dataset.display()))
+        .bad_input()?;
+    for pair in DatasetReader::new(BufReader::new(file), config.scene.limits()) {
+        let pair = pair
+            .with_context(|| format!("reading {}", args.dataset.display()))
+            .bad_input()?;
+        evaluation
+            .add(&pair)
+            .with_context(|| format!("scene {:?}", pair.name))
+            .bad_input()?;
+    }
+    if evaluation.scenes() == 0 {
+        return Err(anyhow!("{} holds no scenes", args.dataset.display())).bad_input();
+    }
+
+    let dataset = args.dataset.display().to_string();
+    let reports = evaluation.reports();
+    if args.json {
+        for report in &reports {
+            println!("{}", json_line(report, &dataset));
+        }
+    } else {
+        print_table(&reports, &dataset);
+    }
+    Ok(())
+}
+
+fn json_line(report: &MethodReport, dataset: &str) -> serde_json::Value {
+    let s = &report.summary;
+    serde_json::json!({
+        "method": report.method.name(),
+        "dataset": dataset,
+        "scenes": s.scenes,
+        "accuracy": s.accuracy.mean,
+        "precision": s.precision.mean,
+        "recall": s.recall.mean,
+        "accuracy_std": s.accuracy.std,
+        "precision_std": s.precision.std,
+        "recall_std": s.recall.std,
+        "mean_solve_us": report.mean_solve.as_secs_f64() * 1e6,
+    })
+}
+
+fn print_table(reports: &[MethodReport], dataset: &str) {
+    let scenes = reports.first().map_or(0, |r| r.summary.scenes);
+    println!("{dataset}: {scenes} scenes");
+    let mut table = Table::new(&["method", "accuracy", "precision", "recall", "mean solve"]);
+    for r in reports {
+        let s = &r.summary;
+        let stat = |st: vref_match::Stat| format!("{:.4} ± {:.4}", st.mean, st.std);
+        table.row(vec![
+            r.method.name().to_owned(),
+            stat(s.accuracy),
+            stat(s.precision),
+            stat(s.recall),
+            format!("{:.1} us", r.mean_solve.as_secs_f64() * 1e6),
+        ]);
+    }
+    print!("{table}");
+}

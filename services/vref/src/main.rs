@@ -1,0 +1,41 @@
+//! `vref`: the command line of vref.
+//!
+//! Exit codes: 0 success, 1 failure while running, 2 bad input (usage,
+//! configuration, data set), so scripts can tell "you asked wrong" from
+//! "it broke".
+
+mod cli;
+mod config_cmd;
+mod eval;
+mod failure;
+mod import;
+mod table;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use tracing_subscriber::EnvFilter;
+
+use crate::cli::{Cli, Command, ConfigCommand, ImportCommand};
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("warn")),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    let result = match cli.command {
+        Command::Eval(args) => eval::run(&args),
+        Command::Import(ImportCommand::CmuHouse(args)) => import::cmu_house(&args),
+        Command::Config(ConfigCommand::Check(args)) => config_cmd::check(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            eprintln!("vref: {:#}", failure.error());
+            failure.exit_code()
+        }
+    }
+}
