@@ -35,10 +35,14 @@ pub struct SpatialAffinity {
 impl SpatialAffinity {
     /// `beta` must be positive and finite (checked by [`crate::Params`]).
     pub fn new(human: &SceneGraph, robot: &SceneGraph, beta: f64) -> Self {
+        Self::with_table_limit(human, robot, beta, MAX_TABLE_ENTRIES)
+    }
+
+    fn with_table_limit(human: &SceneGraph, robot: &SceneGraph, beta: f64, limit: usize) -> Self {
         let human_edges = edges_of(human);
         let robot_edges = edges_of(robot);
         let entries = human_edges.len().saturating_mul(robot_edges.len());
-        let table = (entries <= MAX_TABLE_ENTRIES).then(|| {
+        let table = (entries <= limit).then(|| {
             let mut table = Vec::with_capacity(entries);
             for e in &human_edges {
                 table.extend(robot_edges.iter().map(|f| kernel(e.length, f.length, beta)));
@@ -111,5 +115,39 @@ fn edges_of(graph: &SceneGraph) -> Vec<Edge> {
             .flat_map(|i| (i + 1..objects.len()).map(move |j| (i, j)))
             .map(|(i, j)| edge(i, j))
             .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use vref_scene::{Limits, SceneObject};
+
+    use super::*;
+
+    fn graph(n: usize, scale: f64) -> SceneGraph {
+        let objects = (0..n)
+            .map(|k| {
+                let t = k as f64;
+                SceneObject::new(
+                    k as u64,
+                    [scale * t.sin(), scale * (1.7 * t).cos(), 0.3 * t],
+                    vec![],
+                )
+            })
+            .collect();
+        SceneGraph::new(objects, None, &Limits::default()).unwrap()
+    }
+
+    #[test]
+    fn recomputed_kernel_equals_stored_table() {
+        let (h, r) = (graph(6, 1.0), graph(5, 1.1));
+        let stored = SpatialAffinity::with_table_limit(&h, &r, 0.3, usize::MAX);
+        let recomputed = SpatialAffinity::with_table_limit(&h, &r, 0.3, 0);
+        assert!(stored.table.is_some() && recomputed.table.is_none());
+        let x: Vec<f64> = (0..30).map(|k| (k as f64 * 0.37).fract()).collect();
+        let (mut a, mut b) = (vec![0.0; 30], vec![0.0; 30]);
+        stored.mul(&x, &mut a);
+        recomputed.mul(&x, &mut b);
+        assert_eq!(a, b);
     }
 }

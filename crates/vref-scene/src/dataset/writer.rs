@@ -23,7 +23,9 @@ impl<W: Write> DatasetWriter<W> {
             source,
         };
         serde_json::to_writer(&mut self.output, &PairRecord::from_pair(pair))
-            .map_err(|e| wrap(std::io::Error::other(e)))?;
+            // `From` keeps the kind of an underlying I/O error (a closed
+            // pipe stays `BrokenPipe`); `io::Error::other` would hide it.
+            .map_err(|e| wrap(std::io::Error::from(e)))?;
         self.output.write_all(b"\n").map_err(wrap)
     }
 
