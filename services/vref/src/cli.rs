@@ -40,7 +40,7 @@ pub struct EvalArgs {
     pub methods: Vec<Method>,
     /// Spatial bandwidth beta, overriding the configuration (CMU House in
     /// pixels: 2500).
-    #[arg(long, value_name = "B")]
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
     pub beta: Option<f64>,
     /// Print one JSON object per method on stdout instead of a table.
     #[arg(long)]

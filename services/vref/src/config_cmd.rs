@@ -5,6 +5,5 @@ use crate::failure::{Blame, Failure};
 
 pub fn check(args: &ConfigCheckArgs) -> Result<(), Failure> {
     Config::from_file(&args.file).bad_input()?;
-    println!("{}: ok", args.file.display());
-    Ok(())
+    crate::stdout::print(&format!("{}: ok\n", args.file.display()))
 }

@@ -8,6 +8,7 @@ use vref_scene::DatasetReader;
 
 use crate::cli::EvalArgs;
 use crate::failure::{Blame, Failure};
+use crate::stdout;
 use crate::table::Table;
 
 pub fn run(args: &EvalArgs) -> Result<(), Failure> {
@@ -45,34 +46,51 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     let dataset = args.dataset.display().to_string();
     let reports = evaluation.reports();
     if args.json {
-        for report in &reports {
-            println!("{}", json_line(report, &dataset));
-        }
+        let lines: String = reports
+            .iter()
+            .map(|r| format!("{}\n", json_line(r, &dataset)))
+            .collect();
+        stdout::print(&lines)?;
     } else {
-        print_table(&reports, &dataset);
+        stdout::print(&table(&reports, &dataset))?;
     }
     Ok(())
 }
 
-fn json_line(report: &MethodReport, dataset: &str) -> serde_json::Value {
-    let s = &report.summary;
-    serde_json::json!({
-        "method": report.method.name(),
-        "dataset": dataset,
-        "scenes": s.scenes,
-        "accuracy": s.accuracy.mean,
-        "precision": s.precision.mean,
-        "recall": s.recall.mean,
-        "accuracy_std": s.accuracy.std,
-        "precision_std": s.precision.std,
-        "recall_std": s.recall.std,
-        "mean_solve_us": report.mean_solve.as_secs_f64() * 1e6,
-    })
+/// One `--json` line; field order is the documented contract's.
+#[derive(serde::Serialize)]
+struct JsonLine<'a> {
+    method: &'a str,
+    dataset: &'a str,
+    scenes: usize,
+    accuracy: f64,
+    precision: f64,
+    recall: f64,
+    accuracy_std: f64,
+    precision_std: f64,
+    recall_std: f64,
+    mean_solve_us: f64,
 }
 
-fn print_table(reports: &[MethodReport], dataset: &str) {
+fn json_line(report: &MethodReport, dataset: &str) -> String {
+    let s = &report.summary;
+    let line = JsonLine {
+        method: report.method.name(),
+        dataset,
+        scenes: s.scenes,
+        accuracy: s.accuracy.mean,
+        precision: s.precision.mean,
+        recall: s.recall.mean,
+        accuracy_std: s.accuracy.std,
+        precision_std: s.precision.std,
+        recall_std: s.recall.std,
+        mean_solve_us: report.mean_solve.as_secs_f64() * 1e6,
+    };
+    serde_json::to_string(&line).unwrap_or_default()
+}
+
+fn table(reports: &[MethodReport], dataset: &str) -> String {
     let scenes = reports.first().map_or(0, |r| r.summary.scenes);
-    println!("{dataset}: {scenes} scenes");
     let mut table = Table::new(&["method", "accuracy", "precision", "recall", "mean solve"]);
     for r in reports {
         let s = &r.summary;
@@ -85,5 +103,5 @@ fn print_table(reports: &[MethodReport], dataset: &str) {
             format!("{:.1} us", r.mean_solve.as_secs_f64() * 1e6),
         ]);
     }
-    print!("{table}");
+    format!("{dataset}: {scenes} scenes\n{table}")
 }

@@ -9,6 +9,7 @@ mod config_cmd;
 mod eval;
 mod failure;
 mod import;
+mod stdout;
 mod table;
 
 use std::process::ExitCode;

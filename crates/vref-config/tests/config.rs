@@ -1,0 +1,72 @@
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::Path;
+
+use vref_config::{Config, ConfigError, Source};
+
+fn shipped() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../config/vref.toml")
+}
+
+#[test]
+fn shipped_file_holds_exactly_the_built_in_defaults() {
+    assert_eq!(Config::from_file(&shipped()).unwrap(), Config::default());
+}
+
+#[test]
+fn partial_file_keeps_defaults_for_the_rest() {
+    let c = Config::parse("[matching]\nbeta = 2500.0\n", Path::new("x.toml")).unwrap();
+    assert_eq!(c.matching.beta, 2500.0);
+    assert_eq!(c.matching.rrwm, Config::default().matching.rrwm);
+}
+
+#[test]
+fn unknown_keys_are_errors_naming_the_key() {
+    for text in [
+        "[matching]\nbetta = 1.0\n",
+        "[scene]\ncapacty = 3\n",
+        "[matching.sm]\ntoll = 1.0\n",
+        "[extra]\n",
+    ] {
+        match Config::parse(text, Path::new("x.toml")) {
+            Err(ConfigError::Parse { message, .. }) => {
+                let key = text
+                    .lines()
+                    .last()
+                    .unwrap()
+                    .split([' ', '[', ']'])
+                    .find(|s| !s.is_empty())
+                    .unwrap();
+                assert!(message.contains(key), "{message} should name {key}");
+            }
+            other => panic!("{text:?}: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn bad_values_are_errors_naming_the_parameter() {
+    let cases = [
+        ("[matching]\nbeta = 0.0\n", "beta"),
+        ("[matching.paper]\nalpha = 1.5\n", "paper.alpha"),
+        ("[scene]\ncapacity = 0\n", "capacity"),
+        ("[scene]\nmax_abs_coordinate = -1.0\n", "max_abs_coordinate"),
+        ("[matching]\nbeta = \"wide\"\n", "beta"),
+    ];
+    for (text, name) in cases {
+        let err = Config::parse(text, Path::new("x.toml")).unwrap_err();
+        assert!(err.to_string().contains(name), "{text:?}: {err}");
+    }
+}
+
+#[test]
+fn explicit_path_must_exist_and_wins() {
+    let err = Config::load(Some(Path::new("/nonexistent/vref.toml"))).unwrap_err();
+    assert!(matches!(err, ConfigError::Read { .. }), "{err:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("v.toml");
+    std::fs::write(&file, "[matching]\nbeta = 3.0\n").unwrap();
+    let (config, source) = Config::load(Some(&file)).unwrap();
+    assert_eq!(config.matching.beta, 3.0);
+    assert_eq!(source, Source::File(file));
+}

@@ -1,0 +1,237 @@
+//! The `vref` command line as a user meets it: help, output contracts,
+//! exit codes and error messages for bad input.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod support;
+
+use std::path::Path;
+use std::time::Duration;
+
+use support::{cmu_house_dir, json_lines, repo_root, vref};
+
+const LIMIT: Duration = Duration::from_secs(60);
+
+/// A small valid scene: a triangle seen twice, robot ids shuffled.
+const SCENE: &str = r#"{"name":"tri","robot":{"objects":[{"id":7,"position":[0.5,0.1,1.0],"feature":[0,1]},{"id":3,"position":[0,0,1],"feature":[1,0]},{"id":9,"position":[0,0.3,1.2],"feature":[1,1]}]},"human":{"objects":[{"id":1,"position":[0,0,1],"feature":[1,0]},{"id":2,"position":[0.5,0.1,1.0],"feature":[0,1]},{"id":4,"position":[0,0.3,1.2],"feature":[1,1]}]},"ground_truth":[[1,3],[2,7],[4,9]]}"#;
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_owned()
+}
+
+#[test]
+fn every_command_has_help() {
+    for args in [
+        vec!["--help"],
+        vec!["eval", "--help"],
+        vec!["import", "--help"],
+        vec!["import", "cmu-house", "--help"],
+        vec!["config", "check", "--help"],
+    ] {
+        let run = vref(&args, LIMIT).ok();
+        assert!(run.stdout.contains("Usage:"), "{args:?}: {}", run.stdout);
+    }
+    let run = vref(&["eval", "--help"], LIMIT).ok();
+    for flag in ["--dataset", "--method", "--beta", "--json", "--config"] {
+        assert!(run.stdout.contains(flag), "eval --help lacks {flag}");
+    }
+}
+
+#[test]
+fn eval_json_has_one_object_per_method_with_the_contract_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = write(dir.path(), "tri.jsonl", &format!("{SCENE}\n"));
+    let run = vref(
+        &["eval", "--dataset", &data, "--json", "--beta", "0.01"],
+        LIMIT,
+    )
+    .ok();
+    let lines = json_lines(&run.stdout);
+    let methods: Vec<&str> = lines
+        .iter()
+        .map(|v| v["method"].as_str().unwrap())
+        .collect();
+    assert_eq!(methods, ["appearance", "sm", "rrwm", "paper"]);
+    for v in &lines {
+        assert_eq!(v["dataset"], data.as_str());
+        assert_eq!(v["scenes"], 1);
+        for field in ["accuracy", "precision", "recall", "mean_solve_us"] {
+            assert!(v[field].as_f64().is_some(), "{field} missing in {v}");
+        }
+    }
+    // Distinct features on a rigid triangle: appearance alone is right.
+    assert_eq!(lines[0]["accuracy"], 1.0);
+}
+
+#[test]
+fn eval_table_names_every_requested_method() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = write(dir.path(), "tri.jsonl", &format!("{SCENE}\n"));
+    let run = vref(
+        &[
+            "eval",
+            "--dataset",
+            &data,
+            "--method",
+            "paper",
+            "--method",
+            "sm",
+        ],
+        LIMIT,
+    )
+    .ok();
+    assert!(run.stdout.contains("paper") && run.stdout.contains("sm"));
+    assert!(!run.stdout.contains("rrwm"));
+    assert!(run.stdout.contains("1 scenes"));
+}
+
+#[test]
+fn malformed_dataset_line_is_reported_by_line_and_field_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let broken = SCENE.replace("[0,0.3,1.2]", "[0,\"x\",1.2]");
+    let data = write(dir.path(), "bad.jsonl", &format!("{SCENE}\n\n{broken}\n"));
+    let run = vref(&["eval", "--dataset", &data], LIMIT);
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("line 3"), "{}", run.stderr);
+    assert!(
+        run.stderr.contains("robot.objects[2].position"),
+        "{}",
+        run.stderr
+    );
+    assert!(run.stdout.is_empty());
+}
+
+#[test]
+fn invalid_scene_is_reported_with_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let duplicate = SCENE.replace("\"id\":9", "\"id\":7");
+    let data = write(dir.path(), "dup.jsonl", &format!("{duplicate}\n"));
+    let run = vref(&["eval", "--dataset", &data], LIMIT);
+    assert_eq!(run.code, Some(2));
+    assert!(
+        run.stderr.contains("line 1") && run.stderr.contains("\"tri\""),
+        "{}",
+        run.stderr
+    );
+    assert!(
+        run.stderr.contains("object id 7 appears more than once"),
+        "{}",
+        run.stderr
+    );
+}
+
+#[test]
+fn bad_arguments_exit_2_with_a_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = write(dir.path(), "tri.jsonl", &format!("{SCENE}\n"));
+    let empty = write(dir.path(), "empty.jsonl", "\n");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["eval", "--dataset", &data, "--method", "rwm"],
+            "unknown method `rwm`",
+        ),
+        (vec!["eval", "--dataset", &data, "--beta", "-1"], "beta"),
+        (
+            vec!["eval", "--dataset", "/nonexistent/x.jsonl"],
+            "/nonexistent/x.jsonl",
+        ),
+        (vec!["eval", "--dataset", &empty], "no scenes"),
+        (
+            vec!["import", "cmu-house", "/nonexistent", "--gap", "1"],
+            "no frames",
+        ),
+    ];
+    for (args, reason) in cases {
+        let run = vref(&args, LIMIT);
+        assert_eq!(run.code, Some(2), "{args:?}: {}", run.stderr);
+        assert!(run.stderr.contains(reason), "{args:?}: {}", run.stderr);
+    }
+}
+
+#[test]
+fn import_refuses_a_gap_beyond_the_sequence_and_a_bad_keep() {
+    let data = cmu_house_dir();
+    let data = data.to_str().unwrap();
+    let run = vref(&["import", "cmu-house", data, "--gap", "111"], LIMIT);
+    assert_eq!(run.code, Some(2));
+    assert!(
+        run.stderr
+            .contains("frame gap 111 leaves no pair among 111 frames"),
+        "{}",
+        run.stderr
+    );
+    let run = vref(
+        &["import", "cmu-house", data, "--gap", "1", "--keep", "31"],
+        LIMIT,
+    );
+    assert_eq!(run.code, Some(2));
+    assert!(
+        run.stderr.contains("cannot keep 31 landmarks"),
+        "{}",
+        run.stderr
+    );
+}
+
+#[test]
+fn import_with_keep_leaves_objects_without_partner_and_is_reproducible() {
+    let data = cmu_house_dir();
+    let data = data.to_str().unwrap();
+    let args = |seed: &'static str| {
+        vec![
+            "import",
+            "cmu-house",
+            data,
+            "--gap",
+            "10",
+            "--keep",
+            "25",
+            "--features",
+            "--seed",
+            seed,
+        ]
+    };
+    let a = vref(&args("7"), LIMIT).ok().stdout;
+    let b = vref(&args("7"), LIMIT).ok().stdout;
+    let c = vref(&args("8"), LIMIT).ok().stdout;
+    assert_eq!(a, b, "same seed must give the same bytes");
+    assert_ne!(a, c, "another seed must choose other landmarks");
+    let scenes = json_lines(&a);
+    assert_eq!(scenes.len(), 101);
+    let mut unpartnered = 0;
+    for s in &scenes {
+        assert_eq!(s["human"]["objects"].as_array().unwrap().len(), 25);
+        assert_eq!(s["robot"]["objects"].as_array().unwrap().len(), 25);
+        assert_eq!(
+            s["human"]["objects"][0]["feature"]
+                .as_array()
+                .unwrap()
+                .len(),
+            60
+        );
+        unpartnered += 25 - s["ground_truth"].as_array().unwrap().len();
+    }
+    assert!(unpartnered > 0);
+}
+
+#[test]
+fn config_check_accepts_the_shipped_file_and_names_an_unknown_key() {
+    let shipped = repo_root().join("config/vref.toml");
+    let run = vref(&["config", "check", shipped.to_str().unwrap()], LIMIT).ok();
+    assert!(run.stdout.contains(": ok"));
+
+    let dir = tempfile::tempdir().unwrap();
+    let typo = write(
+        dir.path(),
+        "typo.toml",
+        "[matching]\nbeta = 0.01\nbetta = 2\n",
+    );
+    let run = vref(&["config", "check", &typo], LIMIT);
+    assert_eq!(run.code, Some(2));
+    assert!(run.stderr.contains("betta"), "{}", run.stderr);
+
+    let bad = write(dir.path(), "bad.toml", "[matching.rrwm]\nc = 2.0\n");
+    let run = vref(&["config", "check", &bad], LIMIT);
+    assert_eq!(run.code, Some(2));
+    assert!(run.stderr.contains("rrwm.c"), "{}", run.stderr);
+}

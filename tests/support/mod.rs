@@ -1,0 +1,94 @@
+//! Shared by the system tests: run the real `vref` binary with a time
+//! limit, and find the repository's files and the shared data.
+#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// What a finished command left behind.
+#[derive(Debug)]
+pub struct Run {
+    pub code: Option<i32>,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+impl Run {
+    /// Panics with the command's stderr unless it exited 0.
+    pub fn ok(self) -> Self {
+        assert_eq!(self.code, Some(0), "command failed:\n{}", self.stderr);
+        self
+    }
+}
+
+/// The repository root (this file is `tests/support/mod.rs`).
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
+}
+
+/// CMU House as shared beside the repository; `VREF_CMU_HOUSE` overrides.
+pub fn cmu_house_dir() -> PathBuf {
+    let dir = std::env::var_os("VREF_CMU_HOUSE")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo_root().join("../shared/data/cmu_house"));
+    assert!(
+        dir.join("label/house1").exists(),
+        "CMU House data not found at {}",
+        dir.display()
+    );
+    dir
+}
+
+/// Runs `vref` with `args` and the repository's config, killing it after
+/// `limit` so that a hang fails the test instead of stalling the suite.
+pub fn vref(args: &[&str], limit: Duration) -> Run {
+    let config = repo_root().join("config/vref.toml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vref"))
+        .args(args)
+        .env("VREF_CONFIG", &config)
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start vref");
+    let drain = |mut pipe: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            pipe.read_to_string(&mut text).ok();
+            text
+        })
+    };
+    let stdout = drain(Box::new(child.stdout.take().unwrap()));
+    let stderr = drain(Box::new(child.stderr.take().unwrap()));
+    let deadline = Instant::now() + limit;
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            child.kill().ok();
+            child.wait().ok();
+            panic!("vref {args:?} did not finish within {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    Run {
+        code: status.code(),
+        stdout: stdout.join().unwrap(),
+        stderr: stderr.join().unwrap(),
+    }
+}
+
+/// Parses the one-JSON-object-per-line output of `--json`.
+pub fn json_lines(stdout: &str) -> Vec<serde_json::Value> {
+    stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("not JSON: {l:?}: {e}")))
+        .collect()
+}
