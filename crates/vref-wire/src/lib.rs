@@ -1,0 +1,21 @@
+//! What crosses shared memory between vref's processes: the message types
+//! (`#[repr(C)]`, `ZeroCopySend`, an explicit type name each, no implicit
+//! padding), and their validation into scene types. Nothing read from
+//! shared memory is trusted: [`validate_snapshot`] and
+//! [`PointingRay::validate`] turn raw messages into checked values or a
+//! typed [`WireError`].
+//!
+//! The service plumbing (names, ports, WaitSet) builds on these types in
+//! the services; it is not written yet.
+
+mod error;
+mod messages;
+mod snapshot;
+
+pub use error::WireError;
+pub use messages::{
+    Alternative, AnswerStatus, FRAME_NAME_LEN, MAX_ALTERNATIVES, MAX_FEATURE_DIM, ObjectEntry,
+    PointingRay, QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION, SideCode,
+    SnapshotHeader,
+};
+pub use snapshot::{Ray, ValidSnapshot, validate_snapshot};

@@ -1,0 +1,154 @@
+// The derive expands to `unsafe impl ZeroCopySend`; the promise it makes
+// (self-contained, `#[repr(C)]`, no pointers) holds for every type here.
+#![allow(unsafe_code)]
+
+use iceoryx2::prelude::ZeroCopySend;
+
+/// Bumped on any change of layout or meaning of these types.
+pub const SCHEMA_VERSION: u32 = 1;
+/// Features travel inline, so each object entry has a fixed size.
+pub const MAX_FEATURE_DIM: usize = 64;
+/// Bytes of a snapshot's frame name (UTF-8, zero-padded).
+pub const FRAME_NAME_LEN: usize = 32;
+/// Next-best answers carried with a reference answer.
+pub const MAX_ALTERNATIVES: usize = 3;
+
+/// Which camera a snapshot comes from, as carried on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum SideCode {
+    Robot = 0,
+    Human = 1,
+}
+
+/// The user header of a snapshot; the objects follow as a slice.
+#[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::SnapshotHeader")]
+pub struct SnapshotHeader {
+    /// Increases by one per snapshot of a publisher.
+    pub sequence: u64,
+    /// Capture time, nanoseconds since the Unix epoch.
+    pub timestamp_ns: u64,
+    pub schema_version: u32,
+    /// A [`SideCode`].
+    pub side: u32,
+    /// Objects used in the slice (the slice may be longer).
+    pub object_count: u32,
+    /// Entries of each object's `feature` that are used.
+    pub feature_dim: u32,
+    /// Camera frame the positions are in, e.g. "robot_camera".
+    pub frame_name: [u8; FRAME_NAME_LEN],
+}
+
+/// One object of a snapshot.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::ObjectEntry")]
+pub struct ObjectEntry {
+    pub track_id: u64,
+    /// Metres, in the snapshot's camera frame (x right, y down, z forward).
+    pub position: [f32; 3],
+    /// One standard deviation per axis, metres.
+    pub position_sigma: [f32; 3],
+    /// The first `feature_dim` entries are the appearance feature.
+    pub feature: [f32; MAX_FEATURE_DIM],
+}
+
+/// A pointing gesture in the human view's frame.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::PointingRay")]
+pub struct PointingRay {
+    pub sequence: u64,
+    pub timestamp_ns: u64,
+    pub origin: [f32; 3],
+    /// Need not be unit length; must not be zero.
+    pub direction: [f32; 3],
+    /// Objects within this angle of the ray are candidates, radians.
+    pub cone_half_angle: f32,
+    /// The gesture recogniser's confidence, 0..1.
+    pub confidence: f32,
+    pub schema_version: u32,
+    pub reserved: u32,
+}
+
+/// What a reference query asks about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum QueryKind {
+    /// "Which robot object is human object `human_object_id`?"
+    HumanObject = 0,
+    /// "Which robot object does this ray point at?"
+    Ray = 1,
+    /// "Which robot object does the latest gesture point at?"
+    LatestGesture = 2,
+}
+
+/// A controller's question to the matcher.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::ReferenceQuery")]
+pub struct ReferenceQuery {
+    /// Echoed in the answer.
+    pub request_id: u64,
+    pub human_object_id: u64,
+    pub ray_origin: [f32; 3],
+    pub ray_direction: [f32; 3],
+    pub cone_half_angle: f32,
+    /// A [`QueryKind`].
+    pub kind: u32,
+    pub schema_version: u32,
+    pub reserved: u32,
+}
+
+/// How a query was answered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum AnswerStatus {
+    Ok = 0,
+    /// Below the confidence threshold: see the alternatives.
+    Ambiguous = 1,
+    /// The referred object has no partner in the robot view.
+    NoMatch = 2,
+    /// A feed has not delivered a valid snapshot yet.
+    NotReady = 3,
+    /// A feed went silent; the answer uses old snapshots (see the ages).
+    Stale = 4,
+    BadRequest = 5,
+}
+
+/// A next-best candidate.
+#[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::Alternative")]
+pub struct Alternative {
+    pub robot_track_id: u64,
+    pub confidence: f32,
+    pub reserved: u32,
+}
+
+/// The matcher's answer.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::ReferenceAnswer")]
+pub struct ReferenceAnswer {
+    pub request_id: u64,
+    /// The human-view object the query resolved to.
+    pub human_object_id: u64,
+    pub robot_track_id: u64,
+    pub robot_sequence: u64,
+    pub human_sequence: u64,
+    pub robot_age_us: u64,
+    pub human_age_us: u64,
+    /// The robot object's position in the robot camera frame, metres.
+    pub position: [f32; 3],
+    /// Probability that the answer is right.
+    pub confidence: f32,
+    /// An [`AnswerStatus`].
+    pub status: u32,
+    pub alternative_count: u32,
+    pub alternatives: [Alternative; MAX_ALTERNATIVES],
+    pub schema_version: u32,
+    pub reserved: u32,
+}

@@ -1,0 +1,87 @@
+//! A snapshot written in place into loaned shared memory arrives intact
+//! and validates, through real iceoryx2 services isolated by root path and
+//! prefix.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::os::unix::ffi::OsStrExt;
+
+use iceoryx2::prelude::*;
+use vref_scene::{Limits, Side};
+use vref_wire::{
+    FRAME_NAME_LEN, MAX_FEATURE_DIM, ObjectEntry, SCHEMA_VERSION, SideCode, SnapshotHeader,
+    validate_snapshot,
+};
+
+#[test]
+fn snapshot_round_trip_through_shared_memory() {
+    let root = tempfile::tempdir().unwrap();
+    let mut config = Config::default();
+    let mut root_path = root.path().as_os_str().as_bytes().to_vec();
+    root_path.push(b'/');
+    config.global.set_root_path(&Path::new(&root_path).unwrap());
+    config.global.prefix =
+        FileName::new(format!("vref_wire_{}_", std::process::id()).as_bytes()).unwrap();
+    let node = NodeBuilder::new()
+        .config(&config)
+        .create::<ipc::Service>()
+        .unwrap();
+    let service = node
+        .service_builder(&"vref/test/robot/snapshot".try_into().unwrap())
+        .publish_subscribe::<[ObjectEntry]>()
+        .user_header::<SnapshotHeader>()
+        .history_size(1)
+        .subscriber_max_buffer_size(1)
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .unwrap();
+    let publisher = service
+        .publisher_builder()
+        .initial_max_slice_len(2)
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .create()
+        .unwrap();
+    let subscriber = service.subscriber_builder().create().unwrap();
+
+    let objects: Vec<ObjectEntry> = (0..5)
+        .map(|k| {
+            let mut feature = [0.0; MAX_FEATURE_DIM];
+            feature[..3].copy_from_slice(&[1.0, k as f32, 0.5]);
+            ObjectEntry {
+                track_id: 40 + k,
+                position: [k as f32 * 0.1, 0.2, 1.5],
+                position_sigma: [0.01; 3],
+                feature,
+            }
+        })
+        .collect();
+    let mut frame_name = [0u8; FRAME_NAME_LEN];
+    frame_name[..5].copy_from_slice(b"robot");
+    // Five objects exceed the initial slice length of two: the
+    // power-of-two strategy must grow the segment.
+    let mut sample = publisher.loan_slice_uninit(objects.len()).unwrap();
+    *sample.user_header_mut() = SnapshotHeader {
+        sequence: 3,
+        timestamp_ns: 99,
+        schema_version: SCHEMA_VERSION,
+        side: SideCode::Robot as u32,
+        object_count: 5,
+        feature_dim: 3,
+        frame_name,
+    };
+    sample.write_from_fn(|i| objects[i]).send().unwrap();
+
+    let received = subscriber.receive().unwrap().expect("a sample");
+    assert_eq!(received.payload(), &objects[..]);
+    let snapshot = validate_snapshot(
+        received.user_header(),
+        received.payload(),
+        Side::Robot,
+        &Limits::default(),
+    )
+    .unwrap();
+    assert_eq!(snapshot.sequence, 3);
+    assert_eq!(snapshot.frame_name, "robot");
+    assert_eq!(snapshot.graph.len(), 5);
+    assert_eq!(snapshot.graph.index_of(42), Some(2));
+    assert_eq!(snapshot.graph.objects()[4].feature, vec![1.0, 4.0, 0.5]);
+}
