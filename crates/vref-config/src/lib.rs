@@ -17,7 +17,7 @@ pub const DEFAULT_PATH: &str = "config/vref.toml";
 /// Why a configuration could not be used.
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
-    #[error("{path}: {source}")]
+    #[error("cannot read {path}")]
     Read {
         path: PathBuf,
         #[source]
@@ -25,7 +25,7 @@ pub enum ConfigError {
     },
     #[error("{path}: {message}")]
     Parse { path: PathBuf, message: String },
-    #[error("{path}: [matching] {source}")]
+    #[error("{path}: [matching]")]
     Matching {
         path: PathBuf,
         #[source]

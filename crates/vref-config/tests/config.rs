@@ -44,6 +44,17 @@ fn unknown_keys_are_errors_naming_the_key() {
     }
 }
 
+/// The error and its causes, as a program would print them.
+fn chain(err: &dyn std::error::Error) -> String {
+    let mut text = err.to_string();
+    let mut source = err.source();
+    while let Some(e) = source {
+        text = format!("{text}: {e}");
+        source = e.source();
+    }
+    text
+}
+
 #[test]
 fn bad_values_are_errors_naming_the_parameter() {
     let cases = [
@@ -55,7 +66,8 @@ fn bad_values_are_errors_naming_the_parameter() {
     ];
     for (text, name) in cases {
         let err = Config::parse(text, Path::new("x.toml")).unwrap_err();
-        assert!(err.to_string().contains(name), "{text:?}: {err}");
+        let message = chain(&err);
+        assert!(message.contains(name), "{text:?}: {message}");
     }
 }
 

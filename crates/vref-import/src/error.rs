@@ -3,7 +3,7 @@ use std::path::PathBuf;
 /// Why a data set could not be imported.
 #[derive(Debug, thiserror::Error)]
 pub enum ImportError {
-    #[error("{path}: {source}")]
+    #[error("{path}")]
     Io {
         path: PathBuf,
         #[source]
@@ -27,7 +27,7 @@ pub enum ImportError {
     GapTooLarge { gap: usize, frames: usize },
     #[error("cannot keep {keep} landmarks: frames have {landmarks} (and at least 1 must be kept)")]
     BadKeep { keep: usize, landmarks: usize },
-    #[error("scene {name}: {source}")]
+    #[error("scene {name}")]
     Invalid {
         name: String,
         #[source]

@@ -55,7 +55,7 @@ pub enum GraphError {
 /// A defect of a pair of graphs and its ground truth.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PairError {
-    #[error("{side} graph: {source}")]
+    #[error("{side} graph")]
     Graph {
         side: Side,
         #[source]

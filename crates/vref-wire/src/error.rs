@@ -17,7 +17,7 @@ pub enum WireError {
     FrameNameNotUtf8,
     #[error("object id {id}: position uncertainty {value} is not a finite non-negative number")]
     BadUncertainty { id: u64, value: f32 },
-    #[error("{0}")]
+    #[error(transparent)]
     Graph(#[from] GraphError),
     #[error("ray {field} is not finite")]
     NonFiniteRay { field: &'static str },

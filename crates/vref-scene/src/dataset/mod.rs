@@ -15,13 +15,13 @@ use crate::PairError;
 /// content names the 1-based line it was found on.
 #[derive(Debug, thiserror::Error)]
 pub enum DatasetError {
-    #[error("{path}: {source}")]
+    #[error("cannot open {path}")]
     Open {
         path: PathBuf,
         #[source]
         source: std::io::Error,
     },
-    #[error("line {line}: {source}")]
+    #[error("line {line}: read failed")]
     Io {
         line: usize,
         #[source]
@@ -37,14 +37,14 @@ pub enum DatasetError {
         field: String,
         message: String,
     },
-    #[error("line {line} (scene {name:?}): {source}")]
+    #[error("line {line} (scene {name:?})")]
     Invalid {
         line: usize,
         name: String,
         #[source]
         source: PairError,
     },
-    #[error("writing scene {name:?}: {source}")]
+    #[error("writing scene {name:?}")]
     Write {
         name: String,
         #[source]

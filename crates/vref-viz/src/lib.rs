@@ -1,0 +1,21 @@
+//! Pictures of vref results, as PNG files: one scene's predicted
+//! correspondences ([`MatchPicture`]) and accuracy curves ([`line_plot`]).
+//!
+//! Text is drawn with a font compiled into this crate, so rendering needs
+//! nothing from the machine: no system fonts, no system libraries.
+
+mod canvas;
+mod error;
+mod font;
+mod line_plot;
+mod lookup;
+mod match_picture;
+mod projection;
+mod quantize;
+
+pub use canvas::Size;
+pub use error::{RenderError, SceneLookupError};
+pub use line_plot::{line_plot, render_line_plot};
+pub use lookup::find_scene;
+pub use match_picture::MatchPicture;
+pub use projection::{Projection, UnknownProjection};

@@ -1,0 +1,196 @@
+//! Curves of one measure against one parameter, one per method: accuracy
+//! against noise, say.
+
+use std::ops::Range;
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use crate::canvas::{self, Area, drawing};
+use crate::{RenderError, Size, font};
+
+/// Size of the pictures [`line_plot`] writes.
+pub const LINE_PLOT_SIZE: Size = Size::new(900, 560);
+
+/// Colours that stay apart for colour-blind readers (Okabe and Ito).
+const PALETTE: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+];
+
+/// Writes a line plot of `series` (name, points) to `out` as a PNG of
+/// [`LINE_PLOT_SIZE`]. The y axis spans 0 to 1 when every value lies
+/// there (accuracies, precisions), else the values' range.
+pub fn line_plot<S: AsRef<str>>(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[(S, Vec<(f64, f64)>)],
+    out: &Path,
+) -> Result<(), RenderError> {
+    let png = render_line_plot(title, x_label, y_label, series, LINE_PLOT_SIZE)?;
+    canvas::write(out, &png)
+}
+
+/// [`line_plot`] as PNG bytes of any size.
+pub fn render_line_plot<S: AsRef<str>>(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[(S, Vec<(f64, f64)>)],
+    size: Size,
+) -> Result<Vec<u8>, RenderError> {
+    for (name, points) in series {
+        if let Some((index, &(x, y))) = points
+            .iter()
+            .enumerate()
+            .find(|(_, (x, y))| !(x.is_finite() && y.is_finite()))
+        {
+            return Err(RenderError::NonFinitePoint {
+                series: name.as_ref().to_owned(),
+                index,
+                x,
+                y,
+            });
+        }
+    }
+    canvas::render_png(size, |area| {
+        draw(area, size, (title, x_label, y_label), series)
+    })
+}
+
+fn draw<S: AsRef<str>>(
+    area: &Area<'_>,
+    size: Size,
+    (title, x_label, y_label): (&str, &str, &str),
+    series: &[(S, Vec<(f64, f64)>)],
+) -> Result<(), RenderError> {
+    let scale = (f64::from(size.width) / 900.0)
+        .min(f64::from(size.height) / 560.0)
+        .clamp(0.5, 4.0);
+    let px = |v: f64| (v * scale).round() as u32;
+    let points = || series.iter().flat_map(|(_, p)| p.iter().copied());
+    let x_range = padded(points().map(|p| p.0), 0.0);
+    let y_range = if points().all(|(_, y)| (0.0..=1.0).contains(&y)) {
+        // A little beyond [0, 1], so that a marker at 0 or 1 is not cut.
+        -0.02..1.02
+    } else {
+        padded(points().map(|p| p.1), 0.05)
+    };
+
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, (font::FAMILY, 22.0 * scale))
+        .margin(px(18.0))
+        .x_label_area_size(px(48.0))
+        .y_label_area_size(px(62.0))
+        .build_cartesian_2d(x_range.clone(), y_range.clone())
+        .map_err(drawing)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .axis_desc_style((font::FAMILY, 16.0 * scale))
+        .label_style((font::FAMILY, 13.0 * scale))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(225, 225, 230))
+        .draw()
+        .map_err(drawing)?;
+
+    let stroke = px(2.5).max(1);
+    for (k, (name, points)) in series.iter().enumerate() {
+        let colour = PALETTE[k % PALETTE.len()];
+        let legend_width = px(24.0) as i32;
+        chart
+            .draw_series(
+                LineSeries::new(points.iter().copied(), colour.filled().stroke_width(stroke))
+                    .point_size(px(3.5)),
+            )
+            .map_err(drawing)?
+            .label(name.as_ref())
+            .legend(move |(x, y)| {
+                PathElement::new(
+                    vec![(x, y), (x + legend_width, y)],
+                    colour.stroke_width(stroke),
+                )
+            });
+    }
+    if !series.is_empty() {
+        chart
+            .configure_series_labels()
+            .position(emptiest_corner(points(), &x_range, &y_range))
+            .label_font((font::FAMILY, 14.0 * scale))
+            .background_style(WHITE.mix(0.9))
+            .border_style(RGBColor(190, 190, 196))
+            .draw()
+            .map_err(drawing)?;
+    }
+    Ok(())
+}
+
+/// A tick value without float noise or trailing zeros: 0.3, not
+/// 0.30000000000000004; 2, not 2.0.
+fn tick(value: f64) -> String {
+    let text = format!("{value:.4}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".to_owned()
+    } else {
+        text.to_owned()
+    }
+}
+
+/// The values' range widened by `margin` of its length on each side; a
+/// single value (or none) gets a range around it.
+fn padded(values: impl Iterator<Item = f64>, margin: f64) -> Range<f64> {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    if lo > hi {
+        return 0.0..1.0;
+    }
+    if lo == hi {
+        let half = (lo.abs() * 0.1).max(0.5);
+        return lo - half..hi + half;
+    }
+    let pad = (hi - lo) * margin;
+    lo - pad..hi + pad
+}
+
+/// The corner of the plot with the fewest points near it, for the legend.
+fn emptiest_corner(
+    points: impl Iterator<Item = (f64, f64)>,
+    x: &Range<f64>,
+    y: &Range<f64>,
+) -> SeriesLabelPosition {
+    // Accuracy curves fall from the upper left, so the upper right is the
+    // usual winner and wins ties.
+    let corners = [
+        (SeriesLabelPosition::UpperRight, (true, true)),
+        (SeriesLabelPosition::LowerLeft, (false, false)),
+        (SeriesLabelPosition::LowerRight, (true, false)),
+        (SeriesLabelPosition::UpperLeft, (false, true)),
+    ];
+    let mut counts = [0usize; 4];
+    for (px, py) in points {
+        let fx = (px - x.start) / (x.end - x.start);
+        let fy = (py - y.start) / (y.end - y.start);
+        for (count, (_, (right, upper))) in counts.iter_mut().zip(&corners) {
+            let near_x = if *right { fx > 0.55 } else { fx < 0.45 };
+            let near_y = if *upper { fy > 0.55 } else { fy < 0.45 };
+            if near_x && near_y {
+                *count += 1;
+            }
+        }
+    }
+    let best = (0..corners.len())
+        .min_by_key(|&k| (counts[k], k))
+        .unwrap_or(0);
+    corners[best].0.clone()
+}
