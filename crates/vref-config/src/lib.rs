@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 use vref_match::{MatchError, Params};
+use vref_reference::MatcherSettings;
 use vref_scene::Limits;
+use vref_wire::ipc::IpcSettings;
 
 /// Environment variable naming a configuration file.
 pub const CONFIG_ENV: &str = "VREF_CONFIG";
@@ -33,6 +35,12 @@ pub enum ConfigError {
     },
     #[error("{path}: [scene] {message}")]
     Scene { path: PathBuf, message: String },
+    #[error("{path}: [{section}] {message}")]
+    Section {
+        path: PathBuf,
+        section: &'static str,
+        message: String,
+    },
 }
 
 /// The whole file.
@@ -41,6 +49,34 @@ pub enum ConfigError {
 pub struct Config {
     pub scene: SceneConfig,
     pub matching: Params,
+    pub matcher: MatcherSettings,
+    pub ipc: IpcSettings,
+    pub feeds: FeedSettings,
+}
+
+/// The `[feeds]` section: how the synthetic feeds publish.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FeedSettings {
+    /// Snapshots per second of each view.
+    pub snapshot_rate_hz: f64,
+    /// Pointing gestures per second.
+    pub gesture_rate_hz: f64,
+    /// Simulation preset of the synthetic world (moi or mrc).
+    pub preset: String,
+    /// Seed of the synthetic world; both feeds must use the same.
+    pub seed: u64,
+}
+
+impl Default for FeedSettings {
+    fn default() -> Self {
+        Self {
+            snapshot_rate_hz: 30.0,
+            gesture_rate_hz: 2.0,
+            preset: "moi".to_owned(),
+            seed: 1,
+        }
+    }
 }
 
 /// What a valid scene graph may hold.

@@ -5,10 +5,11 @@
 //! [`PointingRay::validate`] turn raw messages into checked values or a
 //! typed [`WireError`].
 //!
-//! The service plumbing (names, ports, WaitSet) builds on these types in
-//! the services; it is not written yet.
+//! [`ipc`] names and creates every service in one place and holds the
+//! publishers and the client library that robot tasks link.
 
 mod error;
+pub mod ipc;
 mod messages;
 mod snapshot;
 

@@ -26,7 +26,10 @@ pub enum SideCode {
 #[repr(C)]
 #[type_name("vref::SnapshotHeader")]
 pub struct SnapshotHeader {
-    /// Increases by one per snapshot of a publisher.
+    /// Random per publisher run: a restarted feed starts a new session,
+    /// and its sequence numbers start again.
+    pub session: u64,
+    /// Increases by one per snapshot within a session.
     pub sequence: u64,
     /// Capture time, nanoseconds since the Unix epoch.
     pub timestamp_ns: u64,
@@ -60,6 +63,8 @@ pub struct ObjectEntry {
 #[repr(C)]
 #[type_name("vref::PointingRay")]
 pub struct PointingRay {
+    /// As in [`SnapshotHeader::session`].
+    pub session: u64,
     pub sequence: u64,
     pub timestamp_ns: u64,
     pub origin: [f32; 3],
@@ -151,4 +156,44 @@ pub struct ReferenceAnswer {
     pub alternatives: [Alternative; MAX_ALTERNATIVES],
     pub schema_version: u32,
     pub reserved: u32,
+}
+
+impl AnswerStatus {
+    pub const ALL: [AnswerStatus; 6] = [
+        AnswerStatus::Ok,
+        AnswerStatus::Ambiguous,
+        AnswerStatus::NoMatch,
+        AnswerStatus::NotReady,
+        AnswerStatus::Stale,
+        AnswerStatus::BadRequest,
+    ];
+
+    /// The status carried as `code` on the wire, if it is one.
+    pub fn from_code(code: u32) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| *s as u32 == code)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            AnswerStatus::Ok => "ok",
+            AnswerStatus::Ambiguous => "ambiguous",
+            AnswerStatus::NoMatch => "no_match",
+            AnswerStatus::NotReady => "not_ready",
+            AnswerStatus::Stale => "stale",
+            AnswerStatus::BadRequest => "bad_request",
+        }
+    }
+}
+
+impl ReferenceAnswer {
+    /// The answer's status; an unknown code reads as `bad_request`.
+    pub fn status(&self) -> AnswerStatus {
+        AnswerStatus::from_code(self.status).unwrap_or(AnswerStatus::BadRequest)
+    }
+
+    /// The alternatives actually carried.
+    pub fn alternatives(&self) -> &[Alternative] {
+        let n = (self.alternative_count as usize).min(MAX_ALTERNATIVES);
+        &self.alternatives[..n]
+    }
 }

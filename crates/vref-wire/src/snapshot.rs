@@ -9,6 +9,7 @@ use crate::{
 #[derive(Debug, Clone, PartialEq)]
 pub struct ValidSnapshot {
     pub side: Side,
+    pub session: u64,
     pub sequence: u64,
     pub timestamp_ns: u64,
     pub frame_name: String,
@@ -66,6 +67,7 @@ pub fn validate_snapshot(
     let graph = SceneGraph::new(objects, None, limits)?;
     Ok(ValidSnapshot {
         side,
+        session: header.session,
         sequence: header.sequence,
         timestamp_ns: header.timestamp_ns,
         frame_name,
@@ -111,6 +113,7 @@ fn object_of(entry: &ObjectEntry, dim: usize) -> Result<SceneObject, WireError> 
 /// A pointing ray that passed every check.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ray {
+    pub session: u64,
     pub sequence: u64,
     pub timestamp_ns: u64,
     pub origin: Point3<f64>,
@@ -146,6 +149,7 @@ impl PointingRay {
             return Err(WireError::BadConfidence(self.confidence));
         }
         Ok(Ray {
+            session: self.session,
             sequence: self.sequence,
             timestamp_ns: self.timestamp_ns,
             origin: Point3::from(origin),

@@ -60,6 +60,7 @@ fn snapshot_round_trip_through_shared_memory() {
     // power-of-two strategy must grow the segment.
     let mut sample = publisher.loan_slice_uninit(objects.len()).unwrap();
     *sample.user_header_mut() = SnapshotHeader {
+        session: 11,
         sequence: 3,
         timestamp_ns: 99,
         schema_version: SCHEMA_VERSION,

@@ -11,6 +11,7 @@ fn header(count: u32, dim: u32) -> SnapshotHeader {
     let mut frame_name = [0u8; FRAME_NAME_LEN];
     frame_name[..12].copy_from_slice(b"robot_camera");
     SnapshotHeader {
+        session: 11,
         sequence: 7,
         timestamp_ns: 1_000,
         schema_version: SCHEMA_VERSION,
@@ -170,6 +171,7 @@ fn every_defect_has_its_error() {
 
 fn ray() -> PointingRay {
     PointingRay {
+        session: 11,
         sequence: 1,
         timestamp_ns: 5,
         origin: [0.0, 0.0, 0.0],

@@ -27,6 +27,15 @@ pub enum Command {
     /// Work with configuration files.
     #[command(subcommand)]
     Config(ConfigCommand),
+    /// Generate synthetic scene pairs: one workspace seen by the robot's
+    /// camera and the headset, as a dataset file with ground truth.
+    Scenes(ScenesArgs),
+    /// Draw one scene's predicted correspondences as a PNG picture: both
+    /// views side by side, green lines where the match is right, dashed
+    /// red where it is wrong.
+    Viz(VizArgs),
+    /// Ask the running matcher which robot object a person means.
+    Query(QueryArgs),
 }
 
 #[derive(Debug, Args)]
@@ -49,6 +58,60 @@ pub struct EvalArgs {
     /// present, else built-in defaults).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct VizArgs {
+    /// Dataset file (JSON Lines, one scene pair per line).
+    #[arg(long, value_name = "FILE.jsonl")]
+    pub dataset: PathBuf,
+    /// Name of the scene to draw.
+    #[arg(long, value_name = "NAME")]
+    pub scene: String,
+    /// Matching method (appearance, sm, rrwm, paper).
+    #[arg(long, value_name = "NAME", value_parser = parse_method)]
+    pub method: Method,
+    /// Output picture (PNG).
+    #[arg(long, value_name = "FILE.png")]
+    pub out: PathBuf,
+    /// Spatial bandwidth beta, overriding the configuration (CMU House in
+    /// pixels: 2500).
+    #[arg(long, value_name = "B")]
+    pub beta: Option<f64>,
+    /// How positions are flattened: pixels (x, y), perspective (x/z, y/z),
+    /// top-down (x, z), or auto (pixels if every z of a view is the same,
+    /// else perspective if all are in front of the camera, else top-down).
+    #[arg(long, value_name = "P", default_value = "auto", value_parser = parse_projection)]
+    pub projection: vref_viz::Projection,
+    /// Picture width in pixels.
+    #[arg(long, value_name = "PX", default_value_t = 1200)]
+    pub width: u32,
+    /// Picture height in pixels.
+    #[arg(long, value_name = "PX", default_value_t = 600)]
+    pub height: u32,
+    /// Configuration file (default: $VREF_CONFIG, else config/vref.toml if
+    /// present, else built-in defaults).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct ScenesArgs {
+    /// Scene family: moi (table top, look-alike objects close together,
+    /// cameras under 1 m away) or mrc (floor area seen from 3-5 m, mostly
+    /// identical cartons).
+    #[arg(long, value_name = "NAME")]
+    pub preset: String,
+    /// Number of scene pairs, at least 1. Scene k is the same whatever the
+    /// count, so a shorter run is a prefix of a longer one.
+    #[arg(long, value_name = "N")]
+    pub count: u64,
+    /// Seed; the same preset, count and seed give a byte-identical file.
+    #[arg(long, value_name = "S", default_value_t = 0)]
+    pub seed: u64,
+    /// Output dataset file, written whole or not at all (default: stdout).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -97,4 +160,42 @@ pub struct ConfigCheckArgs {
 
 fn parse_method(s: &str) -> Result<Method, String> {
     s.parse().map_err(|e: vref_match::MatchError| e.to_string())
+}
+
+fn parse_projection(s: &str) -> Result<vref_viz::Projection, String> {
+    s.parse()
+        .map_err(|e: vref_viz::UnknownProjection| e.to_string())
+}
+
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("target").required(true).args(["human_object", "ray", "latest_gesture"])))]
+pub struct QueryArgs {
+    /// The human-view object's track id.
+    #[arg(long, value_name = "ID")]
+    pub human_object: Option<u64>,
+    /// A pointing ray in the human view's frame: origin and direction,
+    /// metres (x right, y down, z forward).
+    #[arg(
+        long,
+        value_name = "OX,OY,OZ,DX,DY,DZ",
+        value_delimiter = ',',
+        num_args = 6,
+        allow_negative_numbers = true
+    )]
+    pub ray: Option<Vec<f32>>,
+    /// The object the latest pointing gesture points at.
+    #[arg(long)]
+    pub latest_gesture: bool,
+    /// Cone half-angle of `--ray`, radians.
+    #[arg(long, value_name = "RAD", default_value_t = 0.1)]
+    pub cone: f32,
+    /// How long to wait for the answer, milliseconds.
+    #[arg(long, value_name = "MS", default_value_t = 1000)]
+    pub timeout_ms: u64,
+    /// Print the answer as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file (its [ipc] section says where the matcher is).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }

@@ -8,6 +8,7 @@ use vref_scene::DatasetReader;
 
 use crate::cli::EvalArgs;
 use crate::failure::{Blame, Failure};
+use crate::progress;
 use crate::stdout;
 use crate::table::Table;
 
@@ -30,6 +31,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     let file = File::open(&args.dataset)
         .with_context(|| format!("opening {}", args.dataset.display()))
         .bad_input()?;
+    let progress = progress::scenes(&args.dataset);
     for pair in DatasetReader::new(BufReader::new(file), config.scene.limits()) {
         let pair = pair
             .with_context(|| format!("reading {}", args.dataset.display()))
@@ -38,7 +40,9 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
             .add(&pair)
             .with_context(|| format!("scene {:?}", pair.name))
             .bad_input()?;
+        progress.inc(1);
     }
+    progress.finish_and_clear();
     if evaluation.scenes() == 0 {
         return Err(anyhow!("{} holds no scenes", args.dataset.display())).bad_input();
     }

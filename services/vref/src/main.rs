@@ -9,8 +9,12 @@ mod config_cmd;
 mod eval;
 mod failure;
 mod import;
+mod progress;
+mod query;
+mod scenes;
 mod stdout;
 mod table;
+mod viz;
 
 use std::process::ExitCode;
 
@@ -26,11 +30,15 @@ fn main() -> ExitCode {
             EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("warn")),
         )
         .with_writer(std::io::stderr)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
     let result = match cli.command {
         Command::Eval(args) => eval::run(&args),
         Command::Import(ImportCommand::CmuHouse(args)) => import::cmu_house(&args),
         Command::Config(ConfigCommand::Check(args)) => config_cmd::check(&args),
+        Command::Scenes(args) => scenes::run(&args),
+        Command::Viz(args) => viz::run(&args),
+        Command::Query(args) => query::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

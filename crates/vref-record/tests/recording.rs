@@ -1,0 +1,102 @@
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use proptest::prelude::*;
+use vref_record::{
+    Frame, RecordError, RecordedObject, RecordedRay, RecordedSnapshot, RecordingReader,
+    RecordingWriter,
+};
+
+fn frames() -> Vec<Frame> {
+    vec![
+        Frame::Snapshot(RecordedSnapshot {
+            robot: true,
+            sequence: 1,
+            timestamp_ns: 1_000,
+            frame_name: "robot_camera".to_owned(),
+            feature_dim: 2,
+            objects: vec![RecordedObject {
+                track_id: 7,
+                position: [0.1, -0.2, 1.5],
+                position_sigma: [0.01, 0.01, 0.03],
+                feature: vec![0.5, 0.25],
+            }],
+        }),
+        Frame::Gesture(RecordedRay {
+            sequence: 1,
+            timestamp_ns: 1_500,
+            origin: [0.0; 3],
+            direction: [0.0, 0.1, 1.0],
+            cone_half_angle: 0.1,
+            confidence: 0.9,
+        }),
+    ]
+}
+
+fn encode(frames: &[Frame]) -> Vec<u8> {
+    let mut w = RecordingWriter::new(Vec::new()).unwrap();
+    for f in frames {
+        w.write(f).unwrap();
+    }
+    assert_eq!(w.frames(), frames.len() as u64);
+    w.finish().unwrap()
+}
+
+#[test]
+fn frames_round_trip_in_order() {
+    let bytes = encode(&frames());
+    let back: Vec<Frame> = RecordingReader::new(&bytes[..])
+        .unwrap()
+        .map(Result::unwrap)
+        .collect();
+    assert_eq!(back, frames());
+    assert_eq!(back[1].timestamp_ns(), 1_500);
+}
+
+#[test]
+fn damage_is_reported_by_frame() {
+    assert!(matches!(
+        RecordingReader::new(&b"VREFREC0"[..]),
+        Err(RecordError::BadMagic)
+    ));
+    assert!(matches!(
+        RecordingReader::new(&b"VREF"[..]),
+        Err(RecordError::BadMagic)
+    ));
+
+    let bytes = encode(&frames());
+    let cut = &bytes[..bytes.len() - 3];
+    let results: Vec<_> = RecordingReader::new(cut).unwrap().collect();
+    assert!(results[0].is_ok());
+    assert!(matches!(
+        results[1],
+        Err(RecordError::Truncated { frame: 1 })
+    ));
+    assert_eq!(results.len(), 2, "the stream ends at the first error");
+
+    let mut huge = b"VREFREC1".to_vec();
+    huge.extend_from_slice(&u32::MAX.to_le_bytes());
+    let first = RecordingReader::new(&huge[..]).unwrap().next().unwrap();
+    assert!(matches!(
+        first,
+        Err(RecordError::FrameTooLarge { frame: 0, .. })
+    ));
+
+    let mut garbage = b"VREFREC1".to_vec();
+    garbage.extend_from_slice(&3u32.to_le_bytes());
+    garbage.extend_from_slice(&[9, 9, 9]);
+    let first = RecordingReader::new(&garbage[..]).unwrap().next().unwrap();
+    assert!(matches!(first, Err(RecordError::Decode { frame: 0, .. })));
+}
+
+proptest! {
+    #[test]
+    fn arbitrary_bytes_never_panic(tail in prop::collection::vec(any::<u8>(), 0..200)) {
+        let mut bytes = b"VREFREC1".to_vec();
+        bytes.extend_from_slice(&tail);
+        if let Ok(reader) = RecordingReader::new(&bytes[..]) {
+            for item in reader.take(100) {
+                let _ = item;
+            }
+        }
+    }
+}

@@ -1,0 +1,193 @@
+use std::time::{Duration, Instant};
+
+use vref_wire::{
+    Alternative, AnswerStatus, MAX_ALTERNATIVES, PointingRay, QueryKind, Ray, ReferenceAnswer,
+    ReferenceQuery, SCHEMA_VERSION,
+};
+
+use crate::ReferenceState;
+use crate::resolve_ray;
+use crate::state::Feed;
+
+impl ReferenceState {
+    /// Answers a reference query from the cached solution, solving first
+    /// if the snapshots changed since.
+    pub fn answer(&mut self, query: &ReferenceQuery, now: Instant) -> ReferenceAnswer {
+        let mut answer = blank(query.request_id);
+        if query.schema_version != SCHEMA_VERSION {
+            return answer;
+        }
+        let kind = match query.kind {
+            k if k == QueryKind::HumanObject as u32 => QueryKind::HumanObject,
+            k if k == QueryKind::Ray as u32 => QueryKind::Ray,
+            k if k == QueryKind::LatestGesture as u32 => QueryKind::LatestGesture,
+            _ => return answer,
+        };
+        let (Some(robot), Some(human)) = (&self.robot, &self.human) else {
+            answer.status = AnswerStatus::NotReady as u32;
+            return answer;
+        };
+        let ages = (age(robot, now), age(human, now));
+        answer.robot_sequence = robot.snapshot.sequence;
+        answer.human_sequence = human.snapshot.sequence;
+        answer.robot_age_us = micros(ages.0);
+        answer.human_age_us = micros(ages.1);
+
+        let Some(human_index) = self.human_target(kind, query, &mut answer) else {
+            return self.mark_stale(answer, ages);
+        };
+        answer.human_object_id = self
+            .human
+            .as_ref()
+            .map_or(0, |h| h.snapshot.graph.objects()[human_index].id);
+        if self.refresh().is_err() {
+            answer.status = AnswerStatus::NotReady as u32;
+            return answer;
+        }
+        self.fill_match(human_index, &mut answer);
+        self.mark_stale(answer, ages)
+    }
+
+    /// The human-view object the query is about; `None` with the answer's
+    /// status set when there is none.
+    fn human_target(
+        &self,
+        kind: QueryKind,
+        query: &ReferenceQuery,
+        answer: &mut ReferenceAnswer,
+    ) -> Option<usize> {
+        let graph = &self.human.as_ref()?.snapshot.graph;
+        let by_ray = |ray: &Ray, answer: &mut ReferenceAnswer| {
+            let found = resolve_ray(graph, ray);
+            if found.is_none() {
+                answer.status = AnswerStatus::NoMatch as u32;
+            }
+            found
+        };
+        match kind {
+            QueryKind::HumanObject => {
+                let found = graph.index_of(query.human_object_id);
+                if found.is_none() {
+                    answer.status = AnswerStatus::BadRequest as u32;
+                }
+                found
+            }
+            QueryKind::Ray => match query_ray(query).validate() {
+                Ok(ray) => by_ray(&ray, answer),
+                Err(_) => {
+                    answer.status = AnswerStatus::BadRequest as u32;
+                    None
+                }
+            },
+            QueryKind::LatestGesture => match &self.gesture {
+                Some(ray) => by_ray(ray, answer),
+                None => {
+                    answer.status = AnswerStatus::NotReady as u32;
+                    None
+                }
+            },
+        }
+    }
+
+    /// Writes the robot object matched to human object `row`, its
+    /// confidence and the next-best alternatives.
+    fn fill_match(&self, row: usize, answer: &mut ReferenceAnswer) {
+        let (Some(cached), Some(robot)) = (&self.cached, &self.robot) else {
+            answer.status = AnswerStatus::NotReady as u32;
+            return;
+        };
+        let objects = robot.snapshot.graph.objects();
+        let m = objects.len();
+        let soft = &cached.solution.soft[row * m..(row + 1) * m];
+        let total: f64 = soft.iter().map(|v| v.max(0.0)).sum();
+        let share = |v: f64| {
+            if total > 0.0 {
+                v.max(0.0) / total
+            } else {
+                1.0 / m as f64
+            }
+        };
+        let Some(col) = cached.solution.assignment.get(row).copied().flatten() else {
+            answer.status = AnswerStatus::NoMatch as u32;
+            return;
+        };
+        let matched = &objects[col];
+        answer.robot_track_id = matched.id;
+        answer.position = matched.position.coords.map(|c| c as f32).into();
+        answer.confidence = share(soft[col]) as f32;
+        let mut others: Vec<usize> = (0..m).filter(|&b| b != col).collect();
+        others.sort_by(|&a, &b| soft[b].total_cmp(&soft[a]));
+        for (slot, &b) in answer
+            .alternatives
+            .iter_mut()
+            .zip(others.iter().take(MAX_ALTERNATIVES))
+        {
+            *slot = Alternative {
+                robot_track_id: objects[b].id,
+                confidence: share(soft[b]) as f32,
+                reserved: 0,
+            };
+        }
+        answer.alternative_count = others.len().min(MAX_ALTERNATIVES) as u32;
+        answer.status = if f64::from(answer.confidence) < self.ambiguity_threshold {
+            AnswerStatus::Ambiguous as u32
+        } else {
+            AnswerStatus::Ok as u32
+        };
+    }
+
+    /// Answers from a feed that went silent are `stale`, whatever else
+    /// they say: the robot must not act on them as current.
+    fn mark_stale(
+        &self,
+        mut answer: ReferenceAnswer,
+        (robot, human): (Duration, Duration),
+    ) -> ReferenceAnswer {
+        let bad_request = answer.status == AnswerStatus::BadRequest as u32;
+        if !bad_request && (robot > self.stale_after || human > self.stale_after) {
+            answer.status = AnswerStatus::Stale as u32;
+        }
+        answer
+    }
+}
+
+fn age(feed: &Feed, now: Instant) -> Duration {
+    now.saturating_duration_since(feed.received_at)
+}
+
+fn micros(d: Duration) -> u64 {
+    u64::try_from(d.as_micros()).unwrap_or(u64::MAX)
+}
+
+fn query_ray(query: &ReferenceQuery) -> PointingRay {
+    PointingRay {
+        session: 0,
+        sequence: 0,
+        timestamp_ns: 0,
+        origin: query.ray_origin,
+        direction: query.ray_direction,
+        cone_half_angle: query.cone_half_angle,
+        confidence: 1.0,
+        schema_version: SCHEMA_VERSION,
+        reserved: 0,
+    }
+}
+
+fn blank(request_id: u64) -> ReferenceAnswer {
+    ReferenceAnswer {
+        request_id,
+        human_object_id: 0,
+        robot_track_id: 0,
+        robot_sequence: 0,
+        human_sequence: 0,
+        robot_age_us: 0,
+        human_age_us: 0,
+        position: [0.0; 3],
+        confidence: 0.0,
+        status: AnswerStatus::BadRequest as u32,
+        alternative_count: 0,
+        alternatives: [Alternative::default(); MAX_ALTERNATIVES],
+        schema_version: SCHEMA_VERSION,
+        reserved: 0,
+    }
+}

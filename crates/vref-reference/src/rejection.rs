@@ -1,0 +1,130 @@
+use std::fmt;
+
+use vref_scene::GraphError;
+use vref_wire::WireError;
+
+/// Why an incoming message was rejected: one counter each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RejectReason {
+    SchemaVersion,
+    WrongSide,
+    CountExceedsSlice,
+    FeatureDimTooLarge,
+    FrameName,
+    Uncertainty,
+    Empty,
+    TooManyObjects,
+    DuplicateId,
+    NonFinitePosition,
+    AbsurdPosition,
+    NonFiniteFeature,
+    FeatureDimMismatch,
+    FeatureDimOtherSide,
+    SequenceBackwards,
+    BadRay,
+}
+
+impl RejectReason {
+    pub const ALL: [RejectReason; 16] = [
+        RejectReason::SchemaVersion,
+        RejectReason::WrongSide,
+        RejectReason::CountExceedsSlice,
+        RejectReason::FeatureDimTooLarge,
+        RejectReason::FrameName,
+        RejectReason::Uncertainty,
+        RejectReason::Empty,
+        RejectReason::TooManyObjects,
+        RejectReason::DuplicateId,
+        RejectReason::NonFinitePosition,
+        RejectReason::AbsurdPosition,
+        RejectReason::NonFiniteFeature,
+        RejectReason::FeatureDimMismatch,
+        RejectReason::FeatureDimOtherSide,
+        RejectReason::SequenceBackwards,
+        RejectReason::BadRay,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RejectReason::SchemaVersion => "schema_version",
+            RejectReason::WrongSide => "wrong_side",
+            RejectReason::CountExceedsSlice => "count_exceeds_slice",
+            RejectReason::FeatureDimTooLarge => "feature_dim_too_large",
+            RejectReason::FrameName => "frame_name",
+            RejectReason::Uncertainty => "uncertainty",
+            RejectReason::Empty => "empty",
+            RejectReason::TooManyObjects => "too_many_objects",
+            RejectReason::DuplicateId => "duplicate_id",
+            RejectReason::NonFinitePosition => "non_finite_position",
+            RejectReason::AbsurdPosition => "absurd_position",
+            RejectReason::NonFiniteFeature => "non_finite_feature",
+            RejectReason::FeatureDimMismatch => "feature_dim_mismatch",
+            RejectReason::FeatureDimOtherSide => "feature_dim_other_side",
+            RejectReason::SequenceBackwards => "sequence_backwards",
+            RejectReason::BadRay => "bad_ray",
+        }
+    }
+
+    /// The counter a wire defect is counted under.
+    pub fn of(error: &WireError) -> Self {
+        match error {
+            WireError::SchemaVersion { .. } => RejectReason::SchemaVersion,
+            WireError::UnknownSide(_) | WireError::WrongSide { .. } => RejectReason::WrongSide,
+            WireError::CountExceedsSlice { .. } => RejectReason::CountExceedsSlice,
+            WireError::FeatureDimTooLarge { .. } => RejectReason::FeatureDimTooLarge,
+            WireError::FrameNameNotUtf8 => RejectReason::FrameName,
+            WireError::BadUncertainty { .. } => RejectReason::Uncertainty,
+            WireError::Graph(g) => match g {
+                GraphError::Empty => RejectReason::Empty,
+                GraphError::TooManyObjects { .. } => RejectReason::TooManyObjects,
+                GraphError::DuplicateId { .. } => RejectReason::DuplicateId,
+                GraphError::NonFinitePosition { .. } => RejectReason::NonFinitePosition,
+                GraphError::AbsurdPosition { .. } => RejectReason::AbsurdPosition,
+                GraphError::NonFiniteFeature { .. } => RejectReason::NonFiniteFeature,
+                GraphError::FeatureDimMismatch { .. } => RejectReason::FeatureDimMismatch,
+                // Snapshots carry no edges.
+                GraphError::UnknownEdgeEndpoint { .. } | GraphError::SelfLoop { .. } => {
+                    RejectReason::DuplicateId
+                }
+            },
+            WireError::NonFiniteRay { .. }
+            | WireError::ZeroRayDirection
+            | WireError::BadConeAngle(_)
+            | WireError::BadConfidence(_) => RejectReason::BadRay,
+        }
+    }
+}
+
+impl fmt::Display for RejectReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Counters of rejected messages, by reason.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Rejections {
+    counts: [u64; RejectReason::ALL.len()],
+}
+
+impl Rejections {
+    pub fn count(&mut self, reason: RejectReason) {
+        self.counts[reason as usize] += 1;
+    }
+
+    pub fn get(&self, reason: RejectReason) -> u64 {
+        self.counts[reason as usize]
+    }
+
+    pub fn total(&self) -> u64 {
+        self.counts.iter().sum()
+    }
+
+    /// Reasons with a non-zero count.
+    pub fn nonzero(&self) -> impl Iterator<Item = (RejectReason, u64)> + '_ {
+        RejectReason::ALL
+            .into_iter()
+            .map(|r| (r, self.get(r)))
+            .filter(|(_, n)| *n > 0)
+    }
+}

@@ -1,0 +1,37 @@
+use serde::{Deserialize, Serialize};
+use vref_match::Method;
+
+/// The `[matcher]` section of config/vref.toml.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MatcherSettings {
+    /// Matching method the service uses (appearance, sm, rrwm, paper).
+    pub method: String,
+    /// A feed silent for longer makes answers `stale`, milliseconds.
+    pub stale_after_ms: u64,
+    /// How often dead nodes of crashed processes are cleaned up, ms.
+    pub cleanup_interval_ms: u64,
+    /// Answers whose confidence is below this are `ambiguous`. The
+    /// confidence of the four published methods is not calibrated (it is
+    /// the matched entry's share of its row in the method's soft answer),
+    /// so the default never declares ambiguity.
+    pub ambiguity_threshold: f64,
+}
+
+impl Default for MatcherSettings {
+    fn default() -> Self {
+        Self {
+            method: "rrwm".to_owned(),
+            stale_after_ms: 500,
+            cleanup_interval_ms: 250,
+            ambiguity_threshold: 0.0,
+        }
+    }
+}
+
+impl MatcherSettings {
+    /// The configured method, or an error naming the bad value.
+    pub fn method(&self) -> Result<Method, vref_match::MatchError> {
+        self.method.parse()
+    }
+}

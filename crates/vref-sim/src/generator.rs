@@ -1,0 +1,260 @@
+//! Scene pairs from a configuration and a seed.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use vref_scene::{Limits, SceneGraph, SceneObject, ScenePair, Side};
+
+use crate::appearance::{Light, Viewing, feature};
+use crate::camera::{Camera, place_camera};
+use crate::config::{CameraSpec, SimConfig};
+use crate::random::{normal, uniform};
+use crate::sensor::{locate, segment};
+use crate::visibility::{Detection, detect};
+use crate::world::{WorldObject, place_objects};
+use crate::{ConfigError, SceneError};
+
+/// Track ids are drawn from `1..=MAX_TRACK_ID`, independently per view.
+const MAX_TRACK_ID: u64 = 999_999;
+
+/// Generates scene pairs. Scene `index` depends only on the configuration,
+/// the seed and `index` (each scene has its own random stream), so any
+/// prefix of a longer run is the shorter run.
+#[derive(Debug, Clone)]
+pub struct Generator {
+    config: SimConfig,
+    seed: u64,
+    name: String,
+}
+
+/// One generated scene: the pair as a dataset holds it, and the world
+/// behind it.
+#[derive(Debug, Clone)]
+pub struct GeneratedScene {
+    pub pair: ScenePair,
+    /// Every object in the workspace, seen or not.
+    pub objects: Vec<WorldObject>,
+    pub robot: View,
+    pub human: View,
+}
+
+/// What one camera of a scene saw.
+#[derive(Debug, Clone)]
+pub struct View {
+    pub camera: Camera,
+    /// The detected objects, by world index (ascending).
+    pub sightings: Vec<Sighting>,
+}
+
+/// One world object in one view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sighting {
+    /// Index into [`GeneratedScene::objects`].
+    pub object: usize,
+    /// Its track id in this view's graph.
+    pub id: u64,
+    /// Share of its camera-facing surface in the image and unoccluded.
+    pub visible_fraction: f64,
+    /// Pixels it covers.
+    pub pixels: f64,
+}
+
+impl Generator {
+    /// Scenes named `{name}-{seed}-{index}`; the name defaults to `sim`.
+    pub fn new(config: SimConfig, seed: u64) -> Result<Self, ConfigError> {
+        config.validate()?;
+        Ok(Self {
+            config,
+            seed,
+            name: "sim".to_owned(),
+        })
+    }
+
+    pub fn named(mut self, name: &str) -> Self {
+        self.name = name.to_owned();
+        self
+    }
+
+    pub fn config(&self) -> &SimConfig {
+        &self.config
+    }
+
+    /// Scenes `0..count`, in order.
+    pub fn scenes(&self, count: u64) -> impl Iterator<Item = Result<GeneratedScene, SceneError>> {
+        (0..count).map(|index| self.scene(index))
+    }
+
+    /// Scene number `index`.
+    pub fn scene(&self, index: u64) -> Result<GeneratedScene, SceneError> {
+        let config = &self.config;
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        rng.set_stream(index);
+        for _ in 0..config.attempts {
+            let Some(objects) = place_objects(config, &mut rng) else {
+                continue;
+            };
+            let light = Light::draw(&config.lighting, &mut rng);
+            let vp = &config.viewpoints;
+            let robot_azimuth = uniform(&mut rng, vp.robot_azimuth_deg).to_radians();
+            let human_azimuth = robot_azimuth + uniform(&mut rng, vp.human_offset_deg).to_radians();
+            let robot_camera = place_camera(&config.robot, robot_azimuth, &mut rng);
+            let human_camera = place_camera(&config.human, human_azimuth, &mut rng);
+            let surfaces: Vec<_> = objects.iter().map(WorldObject::surface).collect();
+            let robot = detect(&robot_camera, &objects, &surfaces, &config.robot);
+            let human = detect(&human_camera, &objects, &surfaces, &config.human);
+            let min = config.min_objects_per_view;
+            if robot.len() < min || human.len() < min {
+                continue;
+            }
+            let robot = Observed {
+                camera: robot_camera,
+                spec: &config.robot,
+                detections: robot,
+            };
+            let human = Observed {
+                camera: human_camera,
+                spec: &config.human,
+                detections: human,
+            };
+            return self.assemble(index, objects, &light, robot, human, &mut rng);
+        }
+        Err(SceneError::NoUsableView {
+            index,
+            attempts: config.attempts,
+            min: config.min_objects_per_view,
+        })
+    }
+
+    fn assemble(
+        &self,
+        index: u64,
+        objects: Vec<WorldObject>,
+        light: &Light,
+        robot: Observed<'_>,
+        human: Observed<'_>,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<GeneratedScene, SceneError> {
+        let invalid = |side| {
+            move |source| SceneError::Invalid {
+                index,
+                source: ScenePair::graph_error(side)(source),
+            }
+        };
+        let (robot_graph, robot) = self.measure(&objects, light, robot, rng);
+        let robot_graph = robot_graph.map_err(invalid(Side::Robot))?;
+        let (human_graph, human) = self.measure(&objects, light, human, rng);
+        let human_graph = human_graph.map_err(invalid(Side::Human))?;
+
+        let mut ground_truth: Vec<(u64, u64)> = human
+            .sightings
+            .iter()
+            .filter_map(|h| robot.id_of(h.object).map(|r| (h.id, r)))
+            .collect();
+        ground_truth.sort_unstable();
+        let name = format!("{}-{}-{}", self.name, self.seed, index);
+        let pair = ScenePair::new(name, robot_graph, human_graph, ground_truth)
+            .map_err(|source| SceneError::Invalid { index, source })?;
+        Ok(GeneratedScene {
+            pair,
+            objects,
+            robot,
+            human,
+        })
+    }
+
+    /// The graph one camera reports: per detection a random track id, the
+    /// measured centroid and the feature, listed by id so that neither ids
+    /// nor order tell which object is which.
+    fn measure(
+        &self,
+        objects: &[WorldObject],
+        light: &Light,
+        observed: Observed<'_>,
+        rng: &mut ChaCha8Rng,
+    ) -> (Result<SceneGraph, vref_scene::GraphError>, View) {
+        let Observed {
+            camera,
+            spec,
+            detections,
+        } = observed;
+        let ids = distinct_ids(rng, detections.len());
+        let frame_scale = normal(rng, spec.noise.depth_scale).exp();
+        let viewing = Viewing {
+            camera: &camera,
+            light,
+            spec: &self.config.features,
+            surface: &self.config.workspace.surface,
+            pixel_noise: spec.noise.pixel,
+        };
+        let mut graph_objects = Vec::with_capacity(detections.len());
+        let mut sightings = Vec::with_capacity(detections.len());
+        for (detection, &id) in detections.iter().zip(&ids) {
+            let object = &objects[detection.object];
+            let mask = segment(detection, &camera, &spec.noise, rng);
+            let centre = camera.to_camera(&object.centre);
+            let position = locate(&mask, &centre, &spec.noise, frame_scale, rng);
+            let class = &self.config.classes[object.class];
+            let feature = feature(&mask, object, class, &viewing, rng);
+            graph_objects.push(SceneObject::new(id, position.coords.into(), feature));
+            sightings.push(Sighting {
+                object: detection.object,
+                id,
+                visible_fraction: detection.visible_fraction,
+                pixels: detection.pixels,
+            });
+        }
+        graph_objects.sort_unstable_by_key(|o| o.id);
+        let graph = SceneGraph::new(graph_objects, None, &Limits::default());
+        (graph, View { camera, sightings })
+    }
+}
+
+/// A camera's detections before measurement.
+struct Observed<'a> {
+    camera: Camera,
+    spec: &'a CameraSpec,
+    detections: Vec<Detection>,
+}
+
+fn distinct_ids<R: Rng>(rng: &mut R, count: usize) -> Vec<u64> {
+    let mut ids: Vec<u64> = Vec::with_capacity(count);
+    while ids.len() < count {
+        let id = rng.random_range(1..=MAX_TRACK_ID);
+        if !ids.contains(&id) {
+            ids.push(id);
+        }
+    }
+    ids
+}
+
+impl GeneratedScene {
+    pub fn view(&self, side: Side) -> &View {
+        match side {
+            Side::Robot => &self.robot,
+            Side::Human => &self.human,
+        }
+    }
+
+    /// World indices of the objects both cameras detect, ascending.
+    pub fn seen_by_both(&self) -> Vec<usize> {
+        self.human
+            .objects()
+            .into_iter()
+            .filter(|&k| self.robot.id_of(k).is_some())
+            .collect()
+    }
+}
+
+impl View {
+    /// World indices of the detected objects, ascending.
+    pub fn objects(&self) -> Vec<usize> {
+        self.sightings.iter().map(|s| s.object).collect()
+    }
+
+    /// The track id world object `object` has in this view, if detected.
+    pub fn id_of(&self, object: usize) -> Option<u64> {
+        self.sightings
+            .iter()
+            .find(|s| s.object == object)
+            .map(|s| s.id)
+    }
+}

@@ -1,0 +1,32 @@
+/// Why an IPC operation failed. iceoryx2's own error types are many and
+/// version-specific; their text is kept, with what was being done.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IpcError {
+    #[error("invalid name or path `{value}` for {what}")]
+    BadName { what: &'static str, value: String },
+    #[error("{what}: {message}")]
+    Iceoryx { what: String, message: String },
+    #[error("no answer within {timeout_ms} ms")]
+    Timeout { timeout_ms: u64 },
+    #[error("the answer echoed request {got}, expected {expected}")]
+    WrongAnswer { expected: u64, got: u64 },
+    #[error("snapshot of {count} objects exceeds the wire capacity of {capacity}")]
+    TooManyObjects { count: usize, capacity: usize },
+}
+
+impl IpcError {
+    pub(crate) fn iceoryx(
+        what: impl Into<String>,
+    ) -> impl FnOnce(&dyn std::fmt::Debug) -> IpcError {
+        let what = what.into();
+        move |e| IpcError::Iceoryx {
+            what,
+            message: format!("{e:?}"),
+        }
+    }
+}
+
+/// Shorthand: `result.map_err(|e| iceoryx_err("what", e))`.
+pub(crate) fn iceoryx_err(what: impl Into<String>, error: impl std::fmt::Debug) -> IpcError {
+    IpcError::iceoryx(what)(&error)
+}

@@ -1,0 +1,22 @@
+//! Every iceoryx2 service of vref is named and created here, with explicit
+//! settings, so that all processes agree on them (a service created first
+//! with small settings makes a later open that asks for more fail).
+
+mod client;
+mod error;
+mod names;
+mod node;
+mod publishers;
+mod services;
+mod settings;
+
+pub use client::ReferenceClient;
+pub use error::IpcError;
+pub use names::ServiceNames;
+pub use node::{Node, create_node, now_ns};
+pub use publishers::{GesturePublisher, SnapshotPublisher};
+pub use services::{
+    AnswerPort, EventPort, GesturePort, ReferencePort, SnapshotPort, open_answer_event,
+    open_gesture, open_reference, open_request_event, open_snapshot,
+};
+pub use settings::IpcSettings;

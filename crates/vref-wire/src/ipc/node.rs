@@ -1,0 +1,51 @@
+use std::os::unix::ffi::OsStrExt;
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use iceoryx2::prelude::*;
+
+use super::IpcSettings;
+use super::error::{IpcError, iceoryx_err};
+
+/// The node type of every vref process.
+pub type Node = iceoryx2::node::Node<ipc::Service>;
+
+/// Creates a node named `name` in the settings' root path and prefix.
+/// Termination requests (SIGINT, SIGTERM) make `node.wait` fail, which
+/// the services take as the signal to stop cleanly.
+pub fn create_node(settings: &IpcSettings, name: &str) -> Result<Node, IpcError> {
+    let mut config = Config::default();
+    if let Some(root) = &settings.root_path {
+        let mut bytes = root.as_os_str().as_bytes().to_vec();
+        if !bytes.ends_with(b"/") {
+            bytes.push(b'/');
+        }
+        let path = Path::new(&bytes).map_err(|_| IpcError::BadName {
+            what: "ipc.root_path",
+            value: root.display().to_string(),
+        })?;
+        config.global.set_root_path(&path);
+    }
+    config.global.prefix =
+        FileName::new(settings.prefix.as_bytes()).map_err(|_| IpcError::BadName {
+            what: "ipc.prefix",
+            value: settings.prefix.clone(),
+        })?;
+    let node_name = NodeName::new(name).map_err(|_| IpcError::BadName {
+        what: "node name",
+        value: name.to_owned(),
+    })?;
+    NodeBuilder::new()
+        .name(&node_name)
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::HandleTerminationRequests)
+        .create::<ipc::Service>()
+        .map_err(|e| iceoryx_err(format!("creating node {name}"), e))
+}
+
+/// Wall-clock time in nanoseconds since the Unix epoch: the timestamps of
+/// snapshots and rays, comparable across processes.
+pub fn now_ns() -> u64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
+}

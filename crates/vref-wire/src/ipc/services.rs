@@ -1,0 +1,111 @@
+use iceoryx2::prelude::*;
+use iceoryx2::service::port_factory::{event, publish_subscribe, request_response};
+use vref_scene::Side;
+
+use super::error::{IpcError, iceoryx_err};
+use super::{IpcSettings, Node, ServiceNames};
+use crate::{ObjectEntry, PointingRay, ReferenceAnswer, ReferenceQuery, SnapshotHeader};
+
+pub type SnapshotPort = publish_subscribe::PortFactory<ipc::Service, [ObjectEntry], SnapshotHeader>;
+pub type GesturePort = publish_subscribe::PortFactory<ipc::Service, PointingRay, ()>;
+pub type ReferencePort =
+    request_response::PortFactory<ipc::Service, ReferenceQuery, (), ReferenceAnswer, ()>;
+pub type EventPort = event::PortFactory<ipc::Service>;
+pub type AnswerPort = EventPort;
+
+/// Event id sent when a notifier's process was found dead and cleaned up.
+pub const NOTIFIER_DEAD: usize = 7;
+/// Restarted processes may meet a dead predecessor's ports until cleanup:
+/// room for both.
+const PORTS_PER_ROLE: usize = 4;
+
+fn service_name(name: &str) -> Result<ServiceName, IpcError> {
+    ServiceName::new(name).map_err(|_| IpcError::BadName {
+        what: "service name",
+        value: name.to_owned(),
+    })
+}
+
+fn open_event(node: &Node, settings: &IpcSettings, name: &str) -> Result<EventPort, IpcError> {
+    let listeners = settings.max_subscribers.max(settings.max_clients) + PORTS_PER_ROLE;
+    node.service_builder(&service_name(name)?)
+        .event()
+        .max_notifiers(settings.max_clients + PORTS_PER_ROLE)
+        .max_listeners(listeners)
+        .notifier_dead_event(EventId::new(NOTIFIER_DEAD))
+        .open_or_create()
+        .map_err(|e| iceoryx_err(format!("opening event service {name}"), e))
+}
+
+/// One side's snapshots (latest wins) and the event that announces them.
+pub fn open_snapshot(
+    node: &Node,
+    settings: &IpcSettings,
+    side: Side,
+) -> Result<(SnapshotPort, EventPort), IpcError> {
+    let name = ServiceNames::new(&settings.namespace).snapshot(side);
+    let data = node
+        .service_builder(&service_name(&name)?)
+        .publish_subscribe::<[ObjectEntry]>()
+        .user_header::<SnapshotHeader>()
+        .history_size(1)
+        .subscriber_max_buffer_size(1)
+        .subscriber_max_borrowed_samples(2)
+        .enable_safe_overflow(true)
+        .max_publishers(PORTS_PER_ROLE)
+        .max_subscribers(settings.max_subscribers)
+        .open_or_create()
+        .map_err(|e| iceoryx_err(format!("opening {name}"), e))?;
+    let event = open_event(node, settings, &ServiceNames::event_of(&name))?;
+    Ok((data, event))
+}
+
+/// Pointing rays (latest wins) and their event.
+pub fn open_gesture(
+    node: &Node,
+    settings: &IpcSettings,
+) -> Result<(GesturePort, EventPort), IpcError> {
+    let name = ServiceNames::new(&settings.namespace).gesture();
+    let data = node
+        .service_builder(&service_name(&name)?)
+        .publish_subscribe::<PointingRay>()
+        .history_size(1)
+        .subscriber_max_buffer_size(1)
+        .enable_safe_overflow(true)
+        .max_publishers(PORTS_PER_ROLE)
+        .max_subscribers(settings.max_subscribers)
+        .open_or_create()
+        .map_err(|e| iceoryx_err(format!("opening {name}"), e))?;
+    let event = open_event(node, settings, &ServiceNames::event_of(&name))?;
+    Ok((data, event))
+}
+
+/// Reference queries (request/response).
+pub fn open_reference(node: &Node, settings: &IpcSettings) -> Result<ReferencePort, IpcError> {
+    let name = ServiceNames::new(&settings.namespace).reference();
+    node.service_builder(&service_name(&name)?)
+        .request_response::<ReferenceQuery, ReferenceAnswer>()
+        .max_clients(settings.max_clients + PORTS_PER_ROLE)
+        .max_servers(PORTS_PER_ROLE)
+        .max_active_requests_per_client(2)
+        .max_response_buffer_size(2)
+        .enable_safe_overflow_for_requests(true)
+        .enable_safe_overflow_for_responses(true)
+        .open_or_create()
+        .map_err(|e| iceoryx_err(format!("opening {name}"), e))
+}
+
+/// Signalled by clients after sending a request, so the matcher wakes.
+pub fn open_request_event(node: &Node, settings: &IpcSettings) -> Result<EventPort, IpcError> {
+    let name = ServiceNames::new(&settings.namespace).reference();
+    open_event(node, settings, &ServiceNames::event_of(&name))
+}
+
+/// Signalled by the matcher after sending answers, so clients wake.
+pub fn open_answer_event(node: &Node, settings: &IpcSettings) -> Result<AnswerPort, IpcError> {
+    open_event(
+        node,
+        settings,
+        &ServiceNames::new(&settings.namespace).answers(),
+    )
+}

@@ -1,0 +1,53 @@
+//! `vref-matcher`: the matcher service. Waits on both feeds, the gesture
+//! feed and reference requests with one WaitSet; keeps the last valid
+//! snapshot of each side; answers queries from the cached solution.
+//!
+//! Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running,
+//! 2 bad configuration.
+
+mod service;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Parser;
+use tracing_subscriber::EnvFilter;
+
+/// The vref matcher: answers "which robot object does the person mean?"
+/// over iceoryx2. Logs go to stderr (RUST_LOG, default info).
+#[derive(Debug, Parser)]
+#[command(name = "vref-matcher", version)]
+struct Args {
+    /// Configuration file (default: $VREF_CONFIG, else config/vref.toml
+    /// if present, else built-in defaults).
+    #[arg(long, value_name = "FILE")]
+    config: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")),
+        )
+        .with_writer(std::io::stderr)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        .init();
+    let config = match vref_config::Config::load(args.config.as_deref()) {
+        Ok((config, source)) => {
+            tracing::info!(?source, "configuration");
+            config
+        }
+        Err(e) => {
+            tracing::error!("{:#}", anyhow::Error::from(e));
+            return ExitCode::from(2);
+        }
+    };
+    match service::run(&config) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            tracing::error!("{e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
