@@ -21,7 +21,7 @@ pub struct MatcherSettings {
 impl Default for MatcherSettings {
     fn default() -> Self {
         Self {
-            method: "rrwm".to_owned(),
+            method: "paper".to_owned(),
             stale_after_ms: 500,
             cleanup_interval_ms: 250,
             ambiguity_threshold: 0.0,

@@ -29,3 +29,40 @@ pub enum SceneError {
         source: PairError,
     },
 }
+
+/// Why a noise sweep could not run. Levels are reported as given, so that
+/// a message names the factor the user wrote.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SweepError {
+    #[error("unknown sweep {0:?}; known sweeps: depth-noise, feature-noise")]
+    UnknownSweep(String),
+    #[error("no noise levels to sweep")]
+    NoLevels,
+    #[error("level {index} is {value}; a level is a factor on the noise, finite and >= 0")]
+    BadLevel { index: usize, value: f64 },
+    #[error("the scene count per level must be at least 1")]
+    NoScenes,
+    #[error("no methods to evaluate")]
+    NoMethods,
+    #[error("matching parameters")]
+    Params(#[source] vref_match::MatchError),
+    #[error("configuration at noise level {level}")]
+    Config {
+        level: f64,
+        #[source]
+        source: ConfigError,
+    },
+    #[error("generating a scene at noise level {level}")]
+    Scene {
+        level: f64,
+        #[source]
+        source: SceneError,
+    },
+    #[error("matching scene {scene:?} at noise level {level}")]
+    Match {
+        level: f64,
+        scene: String,
+        #[source]
+        source: vref_match::MatchError,
+    },
+}

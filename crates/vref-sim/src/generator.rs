@@ -4,12 +4,12 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vref_scene::{Limits, SceneGraph, SceneObject, ScenePair, Side};
 
-use crate::appearance::{Light, Viewing, feature};
-use crate::camera::{Camera, place_camera};
+use crate::appearance::Light;
+use crate::camera::Camera;
 use crate::config::{CameraSpec, SimConfig};
-use crate::random::{normal, uniform};
-use crate::sensor::{locate, segment};
-use crate::visibility::{Detection, detect};
+use crate::measurement::measure;
+use crate::staging::{Stage, stage};
+use crate::visibility::Detection;
 use crate::world::{WorldObject, place_objects};
 use crate::{ConfigError, SceneError};
 
@@ -92,30 +92,9 @@ impl Generator {
             let Some(objects) = place_objects(config, &mut rng) else {
                 continue;
             };
-            let light = Light::draw(&config.lighting, &mut rng);
-            let vp = &config.viewpoints;
-            let robot_azimuth = uniform(&mut rng, vp.robot_azimuth_deg).to_radians();
-            let human_azimuth = robot_azimuth + uniform(&mut rng, vp.human_offset_deg).to_radians();
-            let robot_camera = place_camera(&config.robot, robot_azimuth, &mut rng);
-            let human_camera = place_camera(&config.human, human_azimuth, &mut rng);
-            let surfaces: Vec<_> = objects.iter().map(WorldObject::surface).collect();
-            let robot = detect(&robot_camera, &objects, &surfaces, &config.robot);
-            let human = detect(&human_camera, &objects, &surfaces, &config.human);
-            let min = config.min_objects_per_view;
-            if robot.len() < min || human.len() < min {
-                continue;
+            if let Some(stage) = stage(config, objects, &mut rng) {
+                return self.assemble(index, stage, &mut rng);
             }
-            let robot = Observed {
-                camera: robot_camera,
-                spec: &config.robot,
-                detections: robot,
-            };
-            let human = Observed {
-                camera: human_camera,
-                spec: &config.human,
-                detections: human,
-            };
-            return self.assemble(index, objects, &light, robot, human, &mut rng);
         }
         Err(SceneError::NoUsableView {
             index,
@@ -127,10 +106,7 @@ impl Generator {
     fn assemble(
         &self,
         index: u64,
-        objects: Vec<WorldObject>,
-        light: &Light,
-        robot: Observed<'_>,
-        human: Observed<'_>,
+        stage: Stage,
         rng: &mut ChaCha8Rng,
     ) -> Result<GeneratedScene, SceneError> {
         let invalid = |side| {
@@ -139,9 +115,31 @@ impl Generator {
                 source: ScenePair::graph_error(side)(source),
             }
         };
-        let (robot_graph, robot) = self.measure(&objects, light, robot, rng);
+        let Stage {
+            objects,
+            light,
+            robot,
+            human,
+            robot_detections,
+            human_detections,
+        } = stage;
+        let (robot_graph, robot) = self.measure(
+            &objects,
+            &light,
+            robot,
+            &self.config.robot,
+            &robot_detections,
+            rng,
+        );
         let robot_graph = robot_graph.map_err(invalid(Side::Robot))?;
-        let (human_graph, human) = self.measure(&objects, light, human, rng);
+        let (human_graph, human) = self.measure(
+            &objects,
+            &light,
+            human,
+            &self.config.human,
+            &human_detections,
+            rng,
+        );
         let human_graph = human_graph.map_err(invalid(Side::Human))?;
 
         let mut ground_truth: Vec<(u64, u64)> = human
@@ -168,33 +166,17 @@ impl Generator {
         &self,
         objects: &[WorldObject],
         light: &Light,
-        observed: Observed<'_>,
+        camera: Camera,
+        spec: &CameraSpec,
+        detections: &[Detection],
         rng: &mut ChaCha8Rng,
     ) -> (Result<SceneGraph, vref_scene::GraphError>, View) {
-        let Observed {
-            camera,
-            spec,
-            detections,
-        } = observed;
         let ids = distinct_ids(rng, detections.len());
-        let frame_scale = normal(rng, spec.noise.depth_scale).exp();
-        let viewing = Viewing {
-            camera: &camera,
-            light,
-            spec: &self.config.features,
-            surface: &self.config.workspace.surface,
-            pixel_noise: spec.noise.pixel,
-        };
+        let measured = measure(&self.config, objects, light, &camera, spec, detections, rng);
         let mut graph_objects = Vec::with_capacity(detections.len());
         let mut sightings = Vec::with_capacity(detections.len());
-        for (detection, &id) in detections.iter().zip(&ids) {
-            let object = &objects[detection.object];
-            let mask = segment(detection, &camera, &spec.noise, rng);
-            let centre = camera.to_camera(&object.centre);
-            let position = locate(&mask, &centre, &spec.noise, frame_scale, rng);
-            let class = &self.config.classes[object.class];
-            let feature = feature(&mask, object, class, &viewing, rng);
-            graph_objects.push(SceneObject::new(id, position.coords.into(), feature));
+        for ((detection, &id), m) in detections.iter().zip(&ids).zip(measured) {
+            graph_objects.push(SceneObject::new(id, m.position.coords.into(), m.feature));
             sightings.push(Sighting {
                 object: detection.object,
                 id,
@@ -208,14 +190,8 @@ impl Generator {
     }
 }
 
-/// A camera's detections before measurement.
-struct Observed<'a> {
-    camera: Camera,
-    spec: &'a CameraSpec,
-    detections: Vec<Detection>,
-}
-
-fn distinct_ids<R: Rng>(rng: &mut R, count: usize) -> Vec<u64> {
+/// `count` distinct track ids.
+pub(crate) fn distinct_ids<R: Rng>(rng: &mut R, count: usize) -> Vec<u64> {
     let mut ids: Vec<u64> = Vec::with_capacity(count);
     while ids.len() < count {
         let id = rng.random_range(1..=MAX_TRACK_ID);

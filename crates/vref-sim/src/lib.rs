@@ -31,20 +31,36 @@
 //!    sorted by id; the ground truth pairs exactly the objects both views
 //!    detected.
 //!
+//! [`Sweep`] runs the matchers of `vref-match` over scenes generated with
+//! one family of noise knobs scaled ([`NoiseSweep`]): accuracy against
+//! noise.
+//!
 //! Everything is a function of the configuration, the seed and the scene
 //! index (one ChaCha8 stream per scene, no hash-map iteration), so files
 //! are reproducible byte for byte. Across platforms they may differ in the
 //! last digits, where the system's `ln`, `sin` and `cos` round differently.
+//!
+//! A [`LiveWorld`] is the same workspace over time, for the live feeds:
+//! laid out and seen as above, its objects then drift, turn, leave and
+//! come back as closed-form functions of time ([`Dynamics`]), and a person
+//! points at them ([`Gesture`]). It too is a pure function of its inputs
+//! and the time, so separate processes agree on it without talking.
 
 mod appearance;
 mod camera;
 mod config;
+mod dynamics;
 mod error;
 mod generator;
+mod live;
+mod measurement;
+mod motion;
 mod presets;
 mod random;
 mod sensor;
 mod shape;
+mod staging;
+mod sweep;
 mod visibility;
 mod world;
 
@@ -53,8 +69,11 @@ pub use config::{
     CameraSpec, ClassSpec, EdgeFamily, FeatureSpec, LightingSpec, Look, Patch, SensorNoise,
     SimConfig, ViewpointSpec, WorkspaceSpec,
 };
-pub use error::{ConfigError, SceneError};
+pub use dynamics::Dynamics;
+pub use error::{ConfigError, SceneError, SweepError};
 pub use generator::{GeneratedScene, Generator, Sighting, View};
+pub use live::{Gesture, LiveObject, LiveView, LiveWorld};
 pub use presets::{Preset, moi, mrc};
 pub use shape::Shape;
+pub use sweep::{DEFAULT_LEVELS, NoiseSweep, Sweep, SweepPoint, accuracy_curves};
 pub use world::WorldObject;

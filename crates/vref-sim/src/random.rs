@@ -5,7 +5,8 @@
 
 use std::f64::consts::TAU;
 
-use rand::Rng;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 /// A standard normal value (Box-Muller, one of the pair).
 pub(crate) fn standard_normal<R: Rng>(rng: &mut R) -> f64 {
@@ -27,4 +28,35 @@ pub(crate) fn uniform<R: Rng>(rng: &mut R, [lo, hi]: [f64; 2]) -> f64 {
 /// Uniform integer in `lo..=hi`.
 pub(crate) fn count<R: Rng>(rng: &mut R, [lo, hi]: [usize; 2]) -> usize {
     rng.random_range(lo..=hi)
+}
+
+/// What a keyed stream is for; each purpose draws from its own streams.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u64)]
+pub(crate) enum Purpose {
+    /// A live world's layout, cameras, track ids and motions.
+    Setup = 1,
+    /// One object's absences and put-backs.
+    Presence = 2,
+    /// One camera's measurement errors.
+    Frame = 3,
+    /// The person's choice of target and pointing error.
+    Gesture = 4,
+}
+
+/// A random stream that depends only on `seed`, `purpose`, `key` and
+/// `index`: whoever asks for the same four gets the same values, in any
+/// process, in any order.
+pub(crate) fn keyed(seed: u64, purpose: Purpose, key: u64, index: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(mix(seed ^ mix(purpose as u64 ^ mix(key))));
+    rng.set_stream(index);
+    rng
+}
+
+/// splitmix64's finaliser: nearby inputs give unrelated outputs.
+fn mix(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
 }

@@ -5,7 +5,7 @@ use std::f64::consts::TAU;
 use nalgebra::{Point3, Rotation3, Vector3};
 use rand::Rng;
 
-use crate::config::SimConfig;
+use crate::config::{SimConfig, WorkspaceSpec};
 use crate::random::{count, normal, uniform};
 use crate::shape::{Shape, SurfacePoint};
 
@@ -80,21 +80,43 @@ impl WorldObject {
 /// them at random without overlap. `None` when some object found no free
 /// place within the attempts allowed (the caller redraws).
 pub(crate) fn place_objects<R: Rng>(config: &SimConfig, rng: &mut R) -> Option<Vec<WorldObject>> {
+    let objects = draw_objects(config, rng);
+    arrange(objects, &config.workspace, rng)
+}
+
+/// As many instances of each class as its instance range draws.
+pub(crate) fn draw_objects<R: Rng>(config: &SimConfig, rng: &mut R) -> Vec<WorldObject> {
     let mut objects = Vec::new();
     for (class, spec) in config.classes.iter().enumerate() {
         for _ in 0..count(rng, spec.instances) {
-            let size = normal(rng, spec.size_variation).exp();
-            let tint = [0; 3].map(|_| normal(rng, spec.instance_variation).exp());
-            let shape = spec.shape.scaled(size);
-            objects.push(WorldObject {
-                class,
-                shape,
-                centre: Point3::new(0.0, 0.0, shape.half_height()),
-                yaw: TAU * rng.random::<f64>(),
-                tint,
-            });
+            objects.push(draw_instance(config, class, rng));
         }
     }
+    objects
+}
+
+/// One instance of class `class`, standing at the workspace centre.
+pub(crate) fn draw_instance<R: Rng>(config: &SimConfig, class: usize, rng: &mut R) -> WorldObject {
+    let spec = &config.classes[class];
+    let size = normal(rng, spec.size_variation).exp();
+    let tint = [0; 3].map(|_| normal(rng, spec.instance_variation).exp());
+    let shape = spec.shape.scaled(size);
+    WorldObject {
+        class,
+        shape,
+        centre: Point3::new(0.0, 0.0, shape.half_height()),
+        yaw: TAU * rng.random::<f64>(),
+        tint,
+    }
+}
+
+/// Places `objects` at random in the workspace's area, their footprints
+/// at least `min_gap` apart. `None` when some object found no free place.
+pub(crate) fn arrange<R: Rng>(
+    mut objects: Vec<WorldObject>,
+    ws: &WorkspaceSpec,
+    rng: &mut R,
+) -> Option<Vec<WorldObject>> {
     // Largest first: they are the hardest to fit once others stand.
     let mut order: Vec<usize> = (0..objects.len()).collect();
     order.sort_by(|&a, &b| {
@@ -103,7 +125,6 @@ pub(crate) fn place_objects<R: Rng>(config: &SimConfig, rng: &mut R) -> Option<V
             .footprint_radius()
             .total_cmp(&objects[a].shape.footprint_radius())
     });
-    let ws = &config.workspace;
     let mut placed: Vec<usize> = Vec::with_capacity(objects.len());
     for &k in &order {
         let r = objects[k].shape.footprint_radius();

@@ -19,7 +19,8 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Evaluate matching methods on a dataset file (accuracy, precision,
-    /// recall, mean solve time).
+    /// recall, mean solve time), or on generated scenes against a noise
+    /// level (--sweep), with a plot.
     Eval(EvalArgs),
     /// Convert a public data set into a vref dataset file.
     #[command(subcommand)]
@@ -36,13 +37,48 @@ pub enum Command {
     Viz(VizArgs),
     /// Ask the running matcher which robot object a person means.
     Query(QueryArgs),
+    /// Run the three services with synthetic feeds, point at known objects,
+    /// check every answer against the truth, and print a summary.
+    Demo(DemoArgs),
+    /// Record what the feeds publish (snapshots of both views, pointing
+    /// rays) into a file that a feed can replay (--source recording:FILE).
+    Record(RecordArgs),
 }
 
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["dataset", "sweep"])))]
 pub struct EvalArgs {
     /// Dataset file (JSON Lines, one scene pair per line).
     #[arg(long, value_name = "FILE.jsonl")]
-    pub dataset: PathBuf,
+    pub dataset: Option<PathBuf>,
+    /// Instead of a dataset: generate scenes of --preset with one kind of
+    /// sensor noise scaled by each of --levels and plot accuracy against
+    /// it to --out. depth-noise scales the depth error and the depth scale
+    /// error of both cameras; feature-noise the histogram pixel noise,
+    /// white balance and exposure errors (positions unchanged).
+    #[arg(long, value_name = "KIND", requires_all = ["preset", "out"], value_parser = parse_sweep)]
+    pub sweep: Option<vref_sim::NoiseSweep>,
+    /// Scene family of the sweep: moi or mrc (as `vref scenes`).
+    #[arg(long, value_name = "NAME", requires = "sweep")]
+    pub preset: Option<String>,
+    /// Sweep: the accuracy plot to write (PNG).
+    #[arg(long, value_name = "FILE.png", requires = "sweep")]
+    pub out: Option<PathBuf>,
+    /// Sweep: scenes per level [default: 30].
+    #[arg(long, value_name = "N", requires = "sweep")]
+    pub count: Option<u64>,
+    /// Sweep: seed of the scenes, the same at every level [default: 1].
+    #[arg(long, value_name = "S", requires = "sweep")]
+    pub seed: Option<u64>,
+    /// Sweep: factors on the preset's noise [default: 0,0.5,1,2,4].
+    #[arg(
+        long,
+        value_name = "L1,L2,...",
+        value_delimiter = ',',
+        requires = "sweep",
+        allow_negative_numbers = true
+    )]
+    pub levels: Option<Vec<f64>>,
     /// Method to evaluate; repeat for several. Default: all of them
     /// (appearance, sm, rrwm, paper).
     #[arg(long = "method", value_name = "NAME", value_parser = parse_method)]
@@ -162,6 +198,10 @@ fn parse_method(s: &str) -> Result<Method, String> {
     s.parse().map_err(|e: vref_match::MatchError| e.to_string())
 }
 
+fn parse_sweep(s: &str) -> Result<vref_sim::NoiseSweep, String> {
+    s.parse().map_err(|e: vref_sim::SweepError| e.to_string())
+}
+
 fn parse_projection(s: &str) -> Result<vref_viz::Projection, String> {
     s.parse()
         .map_err(|e: vref_viz::UnknownProjection| e.to_string())
@@ -198,4 +238,45 @@ pub struct QueryArgs {
     /// Configuration file (its [ipc] section says where the matcher is).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct RecordArgs {
+    /// Output recording (bincode frames with timestamps).
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// How long to record, e.g. 10s, 500ms, 2m.
+    #[arg(long, value_name = "D", value_parser = crate::duration::parse_duration)]
+    pub duration: std::time::Duration,
+    /// Configuration file (its [ipc] section says where the feeds are).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// How long to query after the services are ready, e.g. 20s.
+    #[arg(long, value_name = "D", default_value = "20s", value_parser = crate::duration::parse_duration)]
+    pub duration: std::time::Duration,
+    /// Objects in the synthetic world (default: drawn per class as the
+    /// [feeds] preset says).
+    #[arg(long, value_name = "N")]
+    pub objects: Option<usize>,
+    /// Queries per second.
+    #[arg(long, value_name = "HZ", default_value_t = 5.0, value_parser = positive_rate)]
+    pub query_rate: f64,
+    /// Print only the summary, as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file; the demo runs the services under its own
+    /// iceoryx2 root path and prefix whatever its [ipc] says.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+fn positive_rate(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 1000.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a rate in (0, 1000]")),
+    }
 }

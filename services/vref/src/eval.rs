@@ -13,6 +13,10 @@ use crate::stdout;
 use crate::table::Table;
 
 pub fn run(args: &EvalArgs) -> Result<(), Failure> {
+    // clap's "input" group guarantees --dataset or --sweep.
+    let Some(dataset_path) = args.dataset.as_deref() else {
+        return crate::sweep::run(args);
+    };
     let (config, source) = Config::load(args.config.as_deref()).bad_input()?;
     tracing::info!(?source, "configuration");
     let mut params = config.matching;
@@ -28,13 +32,13 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         .context("--beta")
         .bad_input()?;
 
-    let file = File::open(&args.dataset)
-        .with_context(|| format!("opening {}", args.dataset.display()))
+    let file = File::open(dataset_path)
+        .with_context(|| format!("opening {}", dataset_path.display()))
         .bad_input()?;
-    let progress = progress::scenes(&args.dataset);
+    let progress = progress::scenes(dataset_path);
     for pair in DatasetReader::new(BufReader::new(file), config.scene.limits()) {
         let pair = pair
-            .with_context(|| format!("reading {}", args.dataset.display()))
+            .with_context(|| format!("reading {}", dataset_path.display()))
             .bad_input()?;
         evaluation
             .add(&pair)
@@ -44,10 +48,10 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     }
     progress.finish_and_clear();
     if evaluation.scenes() == 0 {
-        return Err(anyhow!("{} holds no scenes", args.dataset.display())).bad_input();
+        return Err(anyhow!("{} holds no scenes", dataset_path.display())).bad_input();
     }
 
-    let dataset = args.dataset.display().to_string();
+    let dataset = dataset_path.display().to_string();
     let reports = evaluation.reports();
     if args.json {
         let lines: String = reports

@@ -6,13 +6,17 @@
 
 mod cli;
 mod config_cmd;
+mod demo;
+mod duration;
 mod eval;
 mod failure;
 mod import;
 mod progress;
 mod query;
+mod record;
 mod scenes;
 mod stdout;
+mod sweep;
 mod table;
 mod viz;
 
@@ -39,6 +43,8 @@ fn main() -> ExitCode {
         Command::Scenes(args) => scenes::run(&args),
         Command::Viz(args) => viz::run(&args),
         Command::Query(args) => query::run(&args),
+        Command::Record(args) => record::run(&args),
+        Command::Demo(args) => demo::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -24,6 +24,18 @@ pub fn scenes(dataset: &Path) -> ProgressBar {
     bar.with_finish(ProgressFinish::AndClear)
 }
 
+/// A bar counting `total` scenes that are generated, not read from a file.
+pub fn generated(total: u64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    ProgressBar::new(total)
+        .with_style(style(
+            "{spinner} scene {pos}/{len} [{wide_bar}] {elapsed} (eta {eta})",
+        ))
+        .with_finish(ProgressFinish::AndClear)
+}
+
 fn style(template: &str) -> ProgressStyle {
     ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar())
 }

@@ -1,0 +1,85 @@
+//! A dataset file as a feed: one view of each scene pair in turn, each
+//! held for a while, repeated at the snapshot rate. The pair shown is a
+//! function of the time since the epoch, so the two feeds show the same
+//! pair without talking.
+
+use std::path::Path;
+
+use vref_scene::{Limits, Side, read_dataset_file};
+use vref_wire::ObjectEntry;
+
+use crate::entries::graph_entries;
+use crate::ticks::Ticker;
+use crate::{Due, Publication, SetupError};
+
+#[derive(Debug)]
+pub(crate) struct DatasetSource {
+    /// Per pair: feature dimension and entries of this feed's view.
+    views: Vec<(usize, Vec<ObjectEntry>)>,
+    hold_s: f64,
+    snapshots: Ticker,
+}
+
+impl DatasetSource {
+    pub(crate) fn load(
+        path: &Path,
+        side: Side,
+        limits: Limits,
+        hold_s: f64,
+        epoch_ns: u64,
+        rate_hz: f64,
+    ) -> Result<Self, SetupError> {
+        let pairs = read_dataset_file(path, limits).map_err(|source| SetupError::Dataset {
+            path: path.to_owned(),
+            source,
+        })?;
+        if pairs.is_empty() {
+            return Err(SetupError::EmptyDataset {
+                path: path.to_owned(),
+            });
+        }
+        let views = pairs
+            .iter()
+            .map(|pair| {
+                let graph = match side {
+                    Side::Robot => &pair.robot,
+                    Side::Human => &pair.human,
+                };
+                graph_entries(graph)
+                    .map(|entries| (graph.feature_dim(), entries))
+                    .map_err(|source| SetupError::Entry {
+                        origin: format!("dataset {}, scene {:?}", path.display(), pair.name),
+                        source,
+                    })
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(Self {
+            views,
+            hold_s,
+            snapshots: Ticker::new(epoch_ns, rate_hz),
+        })
+    }
+
+    pub(crate) fn pairs(&self) -> usize {
+        self.views.len()
+    }
+
+    pub(crate) fn next(&mut self, now_ns: u64) -> Due<'_> {
+        let tick = self.snapshots.peek(now_ns);
+        self.snapshots.take(tick);
+        let slot = (tick.t / self.hold_s).floor() as i64;
+        let count = i64::try_from(self.views.len()).unwrap_or(i64::MAX).max(1);
+        let index = usize::try_from(slot.rem_euclid(count)).unwrap_or(0);
+        let (feature_dim, entries) = match self.views.get(index) {
+            Some((dim, entries)) => (*dim, entries.as_slice()),
+            None => (0, &[][..]),
+        };
+        Due {
+            at_ns: tick.at_ns,
+            publication: Publication::Snapshot {
+                feature_dim,
+                entries,
+            },
+        }
+    }
+}

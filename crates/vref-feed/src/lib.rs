@@ -1,0 +1,37 @@
+//! The two feed services' logic: the perception feed publishes the robot
+//! camera's view, the gesture feed the headset's view and the person's
+//! pointing rays, as iceoryx2 snapshots (vref-wire).
+//!
+//! A feed's content comes from one of three sources:
+//!
+//! - **synthetic**: a [`vref_sim::LiveWorld`] from the `[feeds]` preset and
+//!   seed. Its state is a function of the time since an epoch, and
+//!   snapshots and rays are published on ticks aligned to that epoch, so
+//!   two feed processes given the same configuration and flags show one
+//!   world, and the same frame number measures the same way in both.
+//! - **dataset**: the scene pairs of a JSON Lines dataset, each shown for a
+//!   while, chosen by the time since the epoch (so the two feeds agree).
+//! - **recording**: a vref recording's frames of this feed, with their
+//!   original spacing, looping.
+//!
+//! [`Feed::prepare`] checks everything that can be wrong before shared
+//! memory is touched ([`SetupError`]); [`Feed::run`] publishes until a
+//! termination request ([`RunError`] if IPC fails).
+
+mod args;
+mod dataset;
+pub mod entries;
+mod error;
+mod feed;
+mod publication;
+mod replay;
+mod role;
+mod synthetic;
+mod ticks;
+
+pub use args::{FeedArgs, SourceSpec};
+pub use error::{EntryError, RunError, SetupError};
+pub use feed::{Feed, Published};
+pub use publication::{Due, Publication, Ray, Target};
+pub use role::Role;
+pub use synthetic::synthetic_world;

@@ -1,0 +1,111 @@
+//! The live synthetic world as a feed: snapshots of one camera at the
+//! snapshot rate and, for the gesture feed, the person's pointing at the
+//! gesture rate, both on ticks aligned to the epoch so that the two feed
+//! processes see one world.
+
+use vref_config::FeedSettings;
+use vref_scene::Side;
+use vref_sim::{Dynamics, LiveWorld, Preset};
+use vref_wire::ObjectEntry;
+
+use crate::entries::view_entries;
+use crate::ticks::Ticker;
+use crate::{Due, Publication, Ray, RunError, SetupError, Target};
+
+/// The live world of the `[feeds]` settings with `objects` objects: what
+/// both feeds publish and what a checker of their answers must compute.
+pub fn synthetic_world(
+    feeds: &FeedSettings,
+    objects: Option<usize>,
+) -> Result<(Preset, LiveWorld), SetupError> {
+    let preset: Preset = feeds.preset.parse().map_err(SetupError::Preset)?;
+    let world = LiveWorld::new(preset.config(), Dynamics::default(), feeds.seed, objects)
+        .map_err(SetupError::World)?;
+    Ok((preset, world))
+}
+
+#[derive(Debug)]
+pub(crate) struct Synthetic {
+    world: LiveWorld,
+    side: Side,
+    snapshots: Ticker,
+    gestures: Option<Ticker>,
+    feature_dim: usize,
+    /// Reused for every frame.
+    entries: Vec<ObjectEntry>,
+}
+
+impl Synthetic {
+    pub(crate) fn new(
+        world: LiveWorld,
+        side: Side,
+        epoch_ns: u64,
+        rate_hz: f64,
+        gesture_rate_hz: Option<f64>,
+    ) -> Self {
+        let feature_dim = world.config().features.dim();
+        let entries = Vec::with_capacity(world.object_count());
+        Self {
+            world,
+            side,
+            snapshots: Ticker::new(epoch_ns, rate_hz),
+            gestures: gesture_rate_hz.map(|rate| Ticker::new(epoch_ns, rate)),
+            feature_dim,
+            entries,
+        }
+    }
+
+    pub(crate) fn next(&mut self, now_ns: u64) -> Result<Due<'_>, RunError> {
+        // Both counts start now, so that a tick that loses a tie to the
+        // other stream is still due next time.
+        self.snapshots.start(now_ns);
+        if let Some(gestures) = &mut self.gestures {
+            gestures.start(now_ns);
+        }
+        loop {
+            let snapshot = self.snapshots.peek(now_ns);
+            if let Some(gestures) = &mut self.gestures {
+                let tick = gestures.peek(now_ns);
+                if tick.at_ns <= snapshot.at_ns {
+                    gestures.take(tick);
+                    // No gesture while nothing stays for the whole slot.
+                    if let Some(g) = self.world.gesture(tick.t) {
+                        let ray = Ray {
+                            origin: g.origin.coords.map(|v| v as f32).into(),
+                            direction: g.direction.map(|v| v as f32).into(),
+                            cone_half_angle: g.cone_half_angle as f32,
+                            confidence: g.confidence as f32,
+                        };
+                        let target = Target {
+                            slot: g.slot,
+                            human_id: g.human_id,
+                            robot_id: g.robot_id,
+                        };
+                        return Ok(Due {
+                            at_ns: tick.at_ns,
+                            publication: Publication::Gesture {
+                                ray,
+                                target: Some(target),
+                            },
+                        });
+                    }
+                    continue;
+                }
+            }
+            self.snapshots.take(snapshot);
+            // Tick numbers key the measurement errors: the same frame
+            // measures the same way in any process.
+            let view = self
+                .world
+                .observe(self.side, snapshot.t, snapshot.index as u64);
+            view_entries(&view, &mut self.entries)?;
+            return Ok(Due {
+                at_ns: snapshot.at_ns,
+                publication: Publication::Snapshot {
+                    feature_dim: self.feature_dim,
+                    entries: &self.entries,
+                },
+            });
+        }
+    }
+}

@@ -1,0 +1,169 @@
+use std::fs::File;
+use std::io::BufWriter;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, anyhow};
+use iceoryx2::prelude::*;
+use iceoryx2::waitset::WaitSetRunResult;
+use vref_config::Config;
+use vref_record::{Frame, RecordedObject, RecordedRay, RecordedSnapshot, RecordingWriter};
+use vref_scene::Side;
+use vref_wire::ipc::{create_node, open_gesture, open_snapshot};
+use vref_wire::{MAX_FEATURE_DIM, ObjectEntry, SnapshotHeader};
+
+use crate::cli::RecordArgs;
+use crate::failure::{Blame, Failure};
+
+/// Longest sleep between checks of the clock.
+const TICK: Duration = Duration::from_millis(100);
+
+pub fn run(args: &RecordArgs) -> Result<(), Failure> {
+    let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
+    let partial = args.out.with_extension("vrec.tmp");
+    let file = File::create(&partial)
+        .with_context(|| format!("creating {}", partial.display()))
+        .bad_input()?;
+    let mut writer = RecordingWriter::new(BufWriter::new(file)).runtime()?;
+    let frames = record(&config, args.duration, &mut writer).runtime();
+    let finished = writer.finish().map(drop).runtime();
+    let outcome = frames.and_then(|n| finished.map(|()| n));
+    match outcome {
+        Ok(frames) => {
+            std::fs::rename(&partial, &args.out)
+                .with_context(|| {
+                    format!("renaming {} to {}", partial.display(), args.out.display())
+                })
+                .runtime()?;
+            tracing::info!(frames, out = %args.out.display(), "recorded");
+            crate::stdout::print(&format!("{}: {frames} frames\n", args.out.display()))
+        }
+        Err(e) => {
+            std::fs::remove_file(&partial).ok();
+            Err(e)
+        }
+    }
+}
+
+/// Records until `duration` has passed or SIGINT/SIGTERM; returns frames.
+fn record(
+    config: &Config,
+    duration: Duration,
+    writer: &mut RecordingWriter<BufWriter<File>>,
+) -> anyhow::Result<u64> {
+    let ipc = &config.ipc;
+    let node = create_node(ipc, &format!("vref-record-{}", std::process::id()))?;
+    let (robot_data, robot_event) = open_snapshot(&node, ipc, Side::Robot)?;
+    let (human_data, human_event) = open_snapshot(&node, ipc, Side::Human)?;
+    let (gesture_data, gesture_event) = open_gesture(&node, ipc)?;
+    let err = |what: &'static str| move |e: &dyn std::fmt::Debug| anyhow!("{what}: {e:?}");
+    let robot = robot_data
+        .subscriber_builder()
+        .create()
+        .map_err(|e| err("robot subscriber")(&e))?;
+    let human = human_data
+        .subscriber_builder()
+        .create()
+        .map_err(|e| err("human subscriber")(&e))?;
+    let gesture = gesture_data
+        .subscriber_builder()
+        .create()
+        .map_err(|e| err("gesture subscriber")(&e))?;
+    let listeners = [
+        robot_event
+            .listener_builder()
+            .create()
+            .map_err(|e| err("listener")(&e))?,
+        human_event
+            .listener_builder()
+            .create()
+            .map_err(|e| err("listener")(&e))?,
+        gesture_event
+            .listener_builder()
+            .create()
+            .map_err(|e| err("listener")(&e))?,
+    ];
+    let waitset = WaitSetBuilder::new()
+        .create::<ipc::Service>()
+        .map_err(|e| err("waitset")(&e))?;
+    let _guards = listeners
+        .iter()
+        .map(|l| waitset.attach_notification(l))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| err("attaching")(&e))?;
+
+    let end = Instant::now() + duration;
+    let mut frames = 0u64;
+    let mut failure: Option<anyhow::Error> = None;
+    while Instant::now() < end && failure.is_none() {
+        let wait = (end - Instant::now()).min(TICK);
+        let result = waitset
+            .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, wait)
+            .map_err(|e| err("waiting")(&e))?;
+        if matches!(
+            result,
+            WaitSetRunResult::TerminationRequest | WaitSetRunResult::Interrupt
+        ) {
+            break;
+        }
+        for l in &listeners {
+            l.try_wait(|_| {}).ok();
+        }
+        let mut write = |frame: Frame| match writer.write(&frame) {
+            Ok(()) => frames += 1,
+            Err(e) => failure = Some(e.into()),
+        };
+        for (side, sub) in [(Side::Robot, &robot), (Side::Human, &human)] {
+            while let Ok(Some(sample)) = sub.receive() {
+                write(Frame::Snapshot(snapshot(
+                    side,
+                    sample.user_header(),
+                    sample.payload(),
+                )));
+            }
+        }
+        while let Ok(Some(sample)) = gesture.receive() {
+            let r = sample.payload();
+            write(Frame::Gesture(RecordedRay {
+                sequence: r.sequence,
+                timestamp_ns: r.timestamp_ns,
+                origin: r.origin,
+                direction: r.direction,
+                cone_half_angle: r.cone_half_angle,
+                confidence: r.confidence,
+            }));
+        }
+    }
+    match failure {
+        Some(e) => Err(e),
+        None => Ok(frames),
+    }
+}
+
+/// Copies a snapshot as published. Recordings keep what was sent, even a
+/// malformed snapshot, so that replays reproduce faults; only the slice
+/// bounds are respected.
+fn snapshot(side: Side, header: &SnapshotHeader, entries: &[ObjectEntry]) -> RecordedSnapshot {
+    let count = (header.object_count as usize).min(entries.len());
+    let dim = (header.feature_dim as usize).min(MAX_FEATURE_DIM);
+    let end = header
+        .frame_name
+        .iter()
+        .position(|&b| b == 0)
+        .unwrap_or(header.frame_name.len());
+    RecordedSnapshot {
+        robot: side == Side::Robot,
+        sequence: header.sequence,
+        timestamp_ns: header.timestamp_ns,
+        frame_name: String::from_utf8_lossy(&header.frame_name[..end]).into_owned(),
+        feature_dim: header.feature_dim,
+        objects: entries[..count]
+            .iter()
+            .map(|e| RecordedObject {
+                track_id: e.track_id,
+                position: e.position,
+                position_sigma: e.position_sigma,
+                feature: e.feature[..dim].to_vec(),
+            })
+            .collect(),
+    }
+}

@@ -1,0 +1,268 @@
+//! The services as separate processes over real iceoryx2: matcher,
+//! perception feed, gesture feed, and clients. Each test has its own
+//! root path and prefix (support::processes::Harness).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod support;
+
+use std::time::Duration;
+
+use nix::sys::signal::Signal;
+use support::processes::{Harness, eventually};
+use vref_wire::AnswerStatus;
+use vref_wire::ipc::{IpcSettings, ReferenceClient};
+
+/// Six objects on a table in the human camera's frame (metres), each with
+/// its own colour, and the same scene seen by the robot from another pose.
+const HUMAN: [(u64, [f64; 3]); 6] = [
+    (1, [-0.20, 0.10, 0.80]),
+    (2, [0.00, 0.12, 0.95]),
+    (3, [0.18, 0.08, 0.70]),
+    (4, [0.25, 0.15, 1.05]),
+    (5, [-0.10, 0.14, 1.15]),
+    (6, [0.05, 0.05, 0.60]),
+];
+
+/// Robot track id of human object `h`.
+fn robot_id(h: u64) -> u64 {
+    1000 - 7 * h
+}
+
+/// The robot sees the workspace rotated 90 degrees about the vertical
+/// (y) axis and shifted.
+fn robot_position([x, y, z]: [f64; 3]) -> [f64; 3] {
+    [z - 0.9, y + 0.02, -x + 1.0]
+}
+
+fn feature(h: u64) -> Vec<f32> {
+    (0..6)
+        .map(|k| if k as u64 == h - 1 { 1.0 } else { 0.05 })
+        .collect()
+}
+
+fn dataset() -> String {
+    let object = |id: u64, p: [f64; 3], f: Vec<f32>| serde_json::json!({"id": id, "position": p, "feature": f});
+    let human: Vec<_> = HUMAN
+        .iter()
+        .map(|&(h, p)| object(h, p, feature(h)))
+        .collect();
+    let robot: Vec<_> = HUMAN
+        .iter()
+        .rev()
+        .map(|&(h, p)| object(robot_id(h), robot_position(p), feature(h)))
+        .collect();
+    let truth: Vec<_> = HUMAN.iter().map(|&(h, _)| [h, robot_id(h)]).collect();
+    let line = serde_json::json!({"name": "table", "robot": {"objects": robot}, "human": {"objects": human}, "ground_truth": truth});
+    format!("{line}\n")
+}
+
+/// A harness with the scene file and the ipc settings its config holds.
+fn harness(tag: &str) -> (Harness, IpcSettings, String) {
+    let h = Harness::new(tag, "[matching]\nbeta = 0.01\n");
+    let scene = h.dir.path().join("table.jsonl");
+    std::fs::write(&scene, dataset()).unwrap();
+    let config = vref_config::Config::from_file(&h.config).unwrap();
+    (h, config.ipc, format!("dataset:{}", scene.display()))
+}
+
+fn start_feeds(h: &mut Harness, source: &str) {
+    h.start(
+        "perception",
+        "vref-perception-feed",
+        &["--source", source, "--rate", "50"],
+    );
+    h.start(
+        "gesture",
+        "vref-gesture-feed",
+        &["--source", source, "--rate", "50"],
+    );
+}
+
+fn start_all(h: &mut Harness, source: &str) {
+    h.start("matcher", "vref-matcher", &[]);
+    start_feeds(h, source);
+}
+
+/// Waits until the matcher answers `ok` for human object 1.
+fn wait_ready(client: &mut ReferenceClient, h: &Harness) {
+    eventually(Duration::from_secs(20), "first ok answer", || {
+        let a = client.by_human_object(1, Duration::from_millis(300)).ok()?;
+        (a.status() == AnswerStatus::Ok).then_some(())
+    });
+    let _ = h;
+}
+
+fn status_of(client: &mut ReferenceClient, id: u64) -> Option<AnswerStatus> {
+    client
+        .by_human_object(id, Duration::from_millis(300))
+        .ok()
+        .map(|a| a.status())
+}
+
+#[test]
+fn a_pointed_object_is_answered_correctly_end_to_end() {
+    let (mut h, ipc, source) = harness("e2e");
+    start_all(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    wait_ready(&mut client, &h);
+    for &(human, position) in &HUMAN {
+        let a = client
+            .by_human_object(human, Duration::from_secs(2))
+            .unwrap();
+        assert_eq!(a.status(), AnswerStatus::Ok, "human {human}");
+        assert_eq!(a.robot_track_id, robot_id(human), "human {human}");
+        let expected = robot_position(position);
+        for k in 0..3 {
+            assert!(
+                (f64::from(a.position[k]) - expected[k]).abs() < 1e-5,
+                "{:?} vs {expected:?}",
+                a.position
+            );
+        }
+        // Pointing from the headset at the object resolves to it too.
+        let dir = position.map(|c| c as f32);
+        let a = client
+            .by_ray([0.0; 3], dir, 0.05, Duration::from_secs(2))
+            .unwrap();
+        assert_eq!(
+            (a.status(), a.human_object_id, a.robot_track_id),
+            (AnswerStatus::Ok, human, robot_id(human))
+        );
+    }
+    let unknown = client.by_human_object(99, Duration::from_secs(2)).unwrap();
+    assert_eq!(unknown.status(), AnswerStatus::BadRequest);
+
+    // The command line client reaches the same matcher.
+    let run = support::vref(
+        &[
+            "query",
+            "--human-object",
+            "3",
+            "--json",
+            "--config",
+            h.config_arg(),
+        ],
+        Duration::from_secs(20),
+    )
+    .ok();
+    let answer: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert_eq!(answer["status"], "ok");
+    assert_eq!(answer["robot_track_id"], robot_id(3));
+}
+
+#[test]
+fn a_killed_feed_makes_answers_stale_and_a_restarted_feed_fresh() {
+    let (mut h, ipc, source) = harness("stale");
+    start_all(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    wait_ready(&mut client, &h);
+
+    h.kill("perception");
+    // stale_after_ms = 300 in the harness config.
+    eventually(Duration::from_secs(5), "stale after the feed died", || {
+        let a = client.by_human_object(2, Duration::from_millis(300)).ok()?;
+        (a.status() == AnswerStatus::Stale).then_some(())
+    });
+    let a = client.by_human_object(2, Duration::from_secs(1)).unwrap();
+    assert_eq!(a.robot_track_id, robot_id(2), "stale, not wrong");
+    assert!(a.robot_age_us >= 300_000, "age {} us", a.robot_age_us);
+
+    h.start(
+        "perception",
+        "vref-perception-feed",
+        &["--source", &source, "--rate", "50"],
+    );
+    eventually(
+        Duration::from_secs(15),
+        "fresh after the feed restarted",
+        || (status_of(&mut client, 2)? == AnswerStatus::Ok).then_some(()),
+    );
+}
+
+#[test]
+fn a_restarted_matcher_is_reached_again_by_the_same_client() {
+    let (mut h, ipc, source) = harness("restart");
+    start_all(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    wait_ready(&mut client, &h);
+
+    h.kill("matcher");
+    assert!(
+        client
+            .by_human_object(1, Duration::from_millis(300))
+            .is_err(),
+        "nobody should answer"
+    );
+    h.start("matcher", "vref-matcher", &[]);
+    eventually(
+        Duration::from_secs(20),
+        "the same client reaches the new matcher",
+        || {
+            let a = client.by_human_object(4, Duration::from_millis(300)).ok()?;
+            (a.status() == AnswerStatus::Ok && a.robot_track_id == robot_id(4)).then_some(())
+        },
+    );
+}
+
+#[test]
+fn sigterm_stops_every_service_cleanly_and_nothing_blocks_the_next_start() {
+    let (mut h, ipc, source) = harness("term");
+    start_all(&mut h, &source);
+    {
+        let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+        wait_ready(&mut client, &h);
+    }
+    for name in ["gesture", "perception", "matcher"] {
+        h.signal(name, Signal::SIGTERM);
+        let status = h.wait(name, Duration::from_secs(10));
+        assert_eq!(
+            status.code(),
+            Some(0),
+            "{name} exit status:\n{}",
+            h.log(name)
+        );
+    }
+    start_all(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client-2").unwrap();
+    wait_ready(&mut client, &h);
+    for name in ["gesture", "perception", "matcher"] {
+        h.signal(name, Signal::SIGINT);
+        assert_eq!(
+            h.wait(name, Duration::from_secs(10)).code(),
+            Some(0),
+            "{name}:\n{}",
+            h.log(name)
+        );
+    }
+}
+
+#[test]
+fn the_demo_answers_every_query_and_reports_its_accuracy() {
+    let h = Harness::new("demo", "");
+    let run = support::vref(
+        &[
+            "demo",
+            "--duration",
+            "4s",
+            "--objects",
+            "8",
+            "--json",
+            "--config",
+            h.config_arg(),
+        ],
+        Duration::from_secs(120),
+    )
+    .ok();
+    let summary: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let queries = summary["queries"].as_u64().unwrap();
+    assert!(queries >= 10, "{summary}");
+    assert_eq!(summary["answered"], queries, "{summary}");
+    assert_eq!(summary["errors"], 0, "{summary}");
+    let correct = summary["correct"].as_u64().unwrap();
+    let accuracy = summary["accuracy"].as_f64().unwrap();
+    assert!(
+        (accuracy - correct as f64 / queries as f64).abs() < 1e-9,
+        "{summary}"
+    );
+    assert!(summary["rtt_p99_us"].as_u64().unwrap() >= summary["rtt_p50_us"].as_u64().unwrap());
+}
