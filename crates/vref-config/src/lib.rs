@@ -171,6 +171,60 @@ impl Config {
                 "max_abs_coordinate is {max}, but must be positive and finite"
             )));
         }
+        self.validate_services(path)
+    }
+
+    /// The sections only the services read.
+    fn validate_services(&self, path: &Path) -> Result<(), ConfigError> {
+        let section = |section: &'static str, message: String| ConfigError::Section {
+            path: path.to_owned(),
+            section,
+            message,
+        };
+        let matcher = &self.matcher;
+        matcher
+            .method()
+            .map_err(|e| section("matcher", format!("method: {e}")))?;
+        if matcher.stale_after_ms == 0 || matcher.cleanup_interval_ms == 0 {
+            return Err(section(
+                "matcher",
+                "stale_after_ms and cleanup_interval_ms must be at least 1".to_owned(),
+            ));
+        }
+        if !(0.0..=1.0).contains(&matcher.ambiguity_threshold) {
+            return Err(section(
+                "matcher",
+                format!(
+                    "ambiguity_threshold is {}, but must be in [0, 1]",
+                    matcher.ambiguity_threshold
+                ),
+            ));
+        }
+        let ipc = &self.ipc;
+        if ipc.namespace.is_empty() || ipc.prefix.is_empty() {
+            return Err(section(
+                "ipc",
+                "namespace and prefix must not be empty".to_owned(),
+            ));
+        }
+        if ipc.initial_objects == 0 || ipc.max_clients == 0 || ipc.max_subscribers == 0 {
+            return Err(section(
+                "ipc",
+                "initial_objects, max_clients and max_subscribers must be at least 1".to_owned(),
+            ));
+        }
+        let feeds = &self.feeds;
+        for (name, rate) in [
+            ("snapshot_rate_hz", feeds.snapshot_rate_hz),
+            ("gesture_rate_hz", feeds.gesture_rate_hz),
+        ] {
+            if !(rate.is_finite() && rate > 0.0 && rate <= 10_000.0) {
+                return Err(section(
+                    "feeds",
+                    format!("{name} is {rate}, but must be in (0, 10000]"),
+                ));
+            }
+        }
         Ok(())
     }
 }

@@ -63,6 +63,16 @@ fn bad_values_are_errors_naming_the_parameter() {
         ("[scene]\ncapacity = 0\n", "capacity"),
         ("[scene]\nmax_abs_coordinate = -1.0\n", "max_abs_coordinate"),
         ("[matching]\nbeta = \"wide\"\n", "beta"),
+        ("[matcher]\nmethod = \"magic\"\n", "magic"),
+        ("[matcher]\nstale_after_ms = 0\n", "stale_after_ms"),
+        (
+            "[matcher]\nambiguity_threshold = 2.0\n",
+            "ambiguity_threshold",
+        ),
+        ("[ipc]\nprefix = \"\"\n", "prefix"),
+        ("[ipc]\nmax_clients = 0\n", "max_clients"),
+        ("[feeds]\nsnapshot_rate_hz = 0.0\n", "snapshot_rate_hz"),
+        ("[feeds]\ngesture_rate_hz = -1.0\n", "gesture_rate_hz"),
     ];
     for (text, name) in cases {
         let err = Config::parse(text, Path::new("x.toml")).unwrap_err();

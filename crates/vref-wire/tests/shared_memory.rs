@@ -86,3 +86,34 @@ fn snapshot_round_trip_through_shared_memory() {
     assert_eq!(snapshot.graph.index_of(42), Some(2));
     assert_eq!(snapshot.graph.objects()[4].feature, vec![1.0, 4.0, 0.5]);
 }
+
+#[test]
+fn nodes_are_created_from_the_shipped_iceoryx2_config_with_vref_overrides() {
+    use vref_wire::ipc::{IpcSettings, create_node};
+    let root = tempfile::tempdir().unwrap();
+    let shipped =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../config/iceoryx2.toml");
+    let settings = IpcSettings {
+        iceoryx2_config: Some(shipped),
+        root_path: Some(root.path().to_owned()),
+        prefix: format!("vref_cfg_{}_", std::process::id()),
+        ..IpcSettings::default()
+    };
+    let node = create_node(&settings, "config-test").unwrap();
+    assert!(node.config().global.node.cleanup_dead_nodes_on_creation);
+    assert_eq!(
+        node.config().global.prefix.as_bytes(),
+        settings.prefix.as_bytes()
+    );
+    drop(node);
+
+    let missing = IpcSettings {
+        iceoryx2_config: Some("/nonexistent/iceoryx2.toml".into()),
+        ..settings
+    };
+    let err = create_node(&missing, "config-test").unwrap_err();
+    assert!(
+        err.to_string().contains("/nonexistent/iceoryx2.toml"),
+        "{err}"
+    );
+}

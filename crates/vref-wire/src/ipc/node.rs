@@ -13,7 +13,7 @@ pub type Node = iceoryx2::node::Node<ipc::Service>;
 /// Termination requests (SIGINT, SIGTERM) make `node.wait` fail, which
 /// the services take as the signal to stop cleanly.
 pub fn create_node(settings: &IpcSettings, name: &str) -> Result<Node, IpcError> {
-    let mut config = Config::default();
+    let mut config = base_config(settings)?;
     if let Some(root) = &settings.root_path {
         let mut bytes = root.as_os_str().as_bytes().to_vec();
         if !bytes.ends_with(b"/") {
@@ -40,6 +40,20 @@ pub fn create_node(settings: &IpcSettings, name: &str) -> Result<Node, IpcError>
         .signal_handling_mode(SignalHandlingMode::HandleTerminationRequests)
         .create::<ipc::Service>()
         .map_err(|e| iceoryx_err(format!("creating node {name}"), e))
+}
+
+/// iceoryx2's configuration before vref's `[ipc]` overrides: the named
+/// file, or what iceoryx2 finds by itself.
+fn base_config(settings: &IpcSettings) -> Result<Config, IpcError> {
+    let Some(file) = &settings.iceoryx2_config else {
+        return Ok(Config::global_config().clone());
+    };
+    let bad = || IpcError::BadName {
+        what: "ipc.iceoryx2_config",
+        value: file.display().to_string(),
+    };
+    let path = FilePath::new(file.as_os_str().as_bytes()).map_err(|_| bad())?;
+    Config::from_file(&path).map_err(|e| iceoryx_err(format!("reading {}", file.display()), e))
 }
 
 /// Wall-clock time in nanoseconds since the Unix epoch: the timestamps of

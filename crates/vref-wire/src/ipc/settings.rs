@@ -10,6 +10,9 @@ pub struct IpcSettings {
     /// Prefix of every service name, so several vref systems can share a
     /// machine.
     pub namespace: String,
+    /// iceoryx2's own configuration file; default: iceoryx2's lookup
+    /// ($PWD/config/iceoryx2.toml, then the user's and the system's).
+    pub iceoryx2_config: Option<PathBuf>,
     /// iceoryx2 root path (its files); default: iceoryx2's (/tmp/iceoryx2/).
     pub root_path: Option<PathBuf>,
     /// Prefix of iceoryx2's files in /dev/shm and the root path.
@@ -27,6 +30,7 @@ impl Default for IpcSettings {
     fn default() -> Self {
         Self {
             namespace: "vref".to_owned(),
+            iceoryx2_config: None,
             root_path: None,
             prefix: "vref_".to_owned(),
             initial_objects: 64,

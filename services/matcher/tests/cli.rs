@@ -1,0 +1,95 @@
+//! The matcher binary as an operator meets it. (Having an integration test
+//! also makes `cargo test --workspace` build the binary, which the system
+//! tests in the top-level tests/ start.)
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use nix::sys::signal::{Signal, kill};
+use nix::unistd::Pid;
+
+fn matcher() -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_vref-matcher"));
+    command
+        .env_remove("VREF_CONFIG")
+        .env("RUST_LOG", "info")
+        .stdin(Stdio::null());
+    command
+}
+
+#[test]
+fn help_names_the_config_flag() {
+    let out = matcher().arg("--help").output().unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("--config"));
+}
+
+#[test]
+fn a_bad_configuration_exits_2_naming_the_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        ("[matcher]\nmethod = \"magic\"\n", "magic"),
+        ("[matcher]\nstale_after = 5\n", "stale_after"),
+        ("[ipc]\nprefix = \"\"\n", "prefix"),
+    ];
+    for (text, needle) in cases {
+        let file = dir.path().join("bad.toml");
+        std::fs::write(&file, text).unwrap();
+        let out = matcher().arg("--config").arg(&file).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{text}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(needle), "{text}: {stderr}");
+    }
+}
+
+#[test]
+fn sigterm_stops_it_with_exit_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().join("iox");
+    std::fs::create_dir_all(&root).unwrap();
+    let file = dir.path().join("vref.toml");
+    let prefix = format!("mcli{}_", std::process::id());
+    std::fs::write(
+        &file,
+        format!(
+            "[ipc]\nroot_path = \"{}\"\nprefix = \"{prefix}\"\n",
+            root.display()
+        ),
+    )
+    .unwrap();
+    let log = dir.path().join("matcher.log");
+    let mut child = matcher()
+        .arg("--config")
+        .arg(&file)
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while !std::fs::read_to_string(&log)
+        .unwrap()
+        .contains("matcher ready")
+    {
+        assert!(
+            Instant::now() < deadline,
+            "not ready:\n{}",
+            std::fs::read_to_string(&log).unwrap()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    kill(Pid::from_raw(child.id() as i32), Signal::SIGTERM).unwrap();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            child.kill().ok();
+            panic!("no exit after SIGTERM");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(0));
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert!(text.contains("matcher stopped"), "{text}");
+}
