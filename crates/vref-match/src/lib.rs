@@ -10,6 +10,7 @@
 //! objects).
 
 mod appearance;
+pub mod bench;
 mod error;
 mod evaluation;
 mod hungarian;

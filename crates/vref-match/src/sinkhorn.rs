@@ -29,6 +29,7 @@ pub fn sinkhorn_slack(x: &mut [f64], n: usize, m: usize, tol: f64, max_rounds: u
     let row_target = |i: usize| if i < n { 1.0 } else { (m - n) as f64 };
     let col_target = |a: usize| if a < m { 1.0 } else { (n - m) as f64 };
 
+    let mut col_factor = vec![0.0; cols];
     let mut outcome = Sinkhorn {
         rounds: 0,
         converged: false,
@@ -43,16 +44,17 @@ pub fn sinkhorn_slack(x: &mut [f64], n: usize, m: usize, tol: f64, max_rounds: u
                 row.iter_mut().for_each(|v| *v *= factor);
             }
         }
-        for a in 0..cols {
-            let sum: f64 = padded.iter().skip(a).step_by(cols).sum();
-            if sum > 0.0 {
-                let factor = col_target(a) / sum;
-                padded
-                    .iter_mut()
-                    .skip(a)
-                    .step_by(cols)
-                    .for_each(|v| *v *= factor);
-            }
+        // Column sums accumulated row by row (contiguous, vectorised) add
+        // the same terms in the same order as a walk down each column.
+        col_factor.fill(0.0);
+        for row in padded.chunks_exact(cols) {
+            col_factor.iter_mut().zip(row).for_each(|(c, v)| *c += v);
+        }
+        for (a, c) in col_factor.iter_mut().enumerate() {
+            *c = if *c > 0.0 { col_target(a) / *c } else { 1.0 };
+        }
+        for row in padded.chunks_exact_mut(cols) {
+            row.iter_mut().zip(&col_factor).for_each(|(v, f)| *v *= f);
         }
         // Columns are exact after their pass; only rows can be off.
         let worst = (0..rows)

@@ -102,3 +102,93 @@ fn two_point_graphs_have_the_expected_entries() {
     spatial.mul(&[0.0, 1.0, 0.0, 0.0], &mut out);
     assert_eq!(out, vec![0.0, 0.0, k, 0.0]);
 }
+
+/// S x for fully connected graphs written straight from Eq. 3, one entry at
+/// a time, without the dense matrix (which would need (nm)^2 memory).
+fn reference_product(h: &SceneGraph, r: &SceneGraph, beta: f64, x: &[f64]) -> Vec<f64> {
+    let (n, m) = (h.len(), r.len());
+    let dist = |g: &SceneGraph, i: usize, j: usize| {
+        (g.objects()[i].position - g.objects()[j].position).norm()
+    };
+    let mut out = vec![0.0; n * m];
+    for i in 0..n {
+        for a in 0..m {
+            let mut total = 0.0;
+            for j in (0..n).filter(|&j| j != i) {
+                for b in (0..m).filter(|&b| b != a) {
+                    let d = dist(h, i, j) - dist(r, a, b);
+                    total += (-(d * d) / beta).exp() * x[j * m + b];
+                }
+            }
+            out[i * m + a] = total;
+        }
+    }
+    out
+}
+
+fn scattered(n: usize, scale: f64, phase: f64) -> SceneGraph {
+    let objects = (0..n)
+        .map(|k| {
+            let t = k as f64 + phase;
+            SceneObject::new(
+                k as u64,
+                [
+                    scale * (1.3 * t).sin(),
+                    scale * (0.7 * t).cos(),
+                    0.2 * scale * (2.9 * t).sin(),
+                ],
+                vec![],
+            )
+        })
+        .collect();
+    SceneGraph::new(objects, None, &Limits::default()).unwrap()
+}
+
+#[test]
+fn large_fully_connected_product_equals_the_reference() {
+    // 41 x 43: odd sizes exercise the vectorised blocks' remainders, and
+    // n != m catches a swapped row length.
+    let (h, r) = (scattered(41, 0.4, 0.0), scattered(43, 0.41, 0.3));
+    let beta = 0.01;
+    let len = h.len() * r.len();
+    let x: Vec<f64> = (0..len).map(|k| 0.1 + (k as f64 * 0.618).fract()).collect();
+    let expected = reference_product(&h, &r, beta, &x);
+    let mut got = vec![f64::NAN; len];
+    SpatialAffinity::new(&h, &r, beta).mul(&x, &mut got);
+    assert!(
+        expected.iter().any(|&e| e > 1.0),
+        "the test needs non-trivial sums"
+    );
+    for (k, (g, e)) in got.iter().zip(&expected).enumerate() {
+        assert!(
+            (g - e).abs() <= 1e-6 * e.abs(),
+            "entry {k}: got {g}, expected {e}"
+        );
+    }
+}
+
+#[test]
+fn large_product_with_a_sparse_robot_graph_equals_the_dense_definition() {
+    // The other code path: the robot graph carries an edge list.
+    let h = scattered(9, 1.0, 0.0);
+    let objects = scattered(8, 1.1, 0.5).objects().to_vec();
+    let edges: Vec<[u64; 2]> = (0..8u64)
+        .map(|k| [k, (k * 3 + 1) % 8])
+        .filter(|[a, b]| a != b)
+        .collect();
+    let r = SceneGraph::new(objects, Some(edges), &Limits::default()).unwrap();
+    let beta = 0.5;
+    let len = h.len() * r.len();
+    let x: Vec<f64> = (0..len).map(|k| (k as f64 * 0.31).fract()).collect();
+    let s = dense(&h, &r, beta);
+    let mut got = vec![0.0; len];
+    SpatialAffinity::new(&h, &r, beta).mul(&x, &mut got);
+    for row in 0..len {
+        let e: f64 = (0..len).map(|col| s[row * len + col] * x[col]).sum();
+        assert!(
+            (got[row] - e).abs() <= 1e-9 * (1.0 + e),
+            "row {row}: {} vs {e}",
+            got[row]
+        );
+    }
+}

@@ -43,6 +43,12 @@ pub enum Command {
     /// Record what the feeds publish (snapshots of both views, pointing
     /// rays) into a file that a feed can replay (--source recording:FILE).
     Record(RecordArgs),
+    /// Publish one kind of malformed message into the running services
+    /// (fault injection); an unknown kind lists the kinds.
+    Inject(crate::inject::InjectArgs),
+    /// Benchmarks that print percentiles (never pass/fail).
+    #[command(subcommand)]
+    Bench(BenchCommand),
 }
 
 #[derive(Debug, Args)]
@@ -279,4 +285,48 @@ fn positive_rate(s: &str) -> Result<f64, String> {
         Ok(v) if v.is_finite() && v > 0.0 && v <= 1000.0 => Ok(v),
         _ => Err(format!("`{s}` is not a rate in (0, 1000]")),
     }
+}
+
+#[derive(Debug, Subcommand)]
+pub enum BenchCommand {
+    /// Time the matching methods on synthetic rigid scenes of exactly N
+    /// objects per view (random positions in a 0.6 x 0.4 x 0.2 m box, the
+    /// robot view a rigid motion plus 2 mm noise, 48-d features): median
+    /// and p99 of a full solve (affinities, solve, Hungarian) and of the
+    /// solve after one object moved ("incremental"), and the median
+    /// iteration count. There is no incremental engine yet: "incremental"
+    /// is a full solve of the moved scene, the baseline for that engine.
+    Solver(BenchSolverArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct BenchSolverArgs {
+    /// Objects per view.
+    #[arg(
+        long,
+        value_name = "N1,N2,...",
+        value_delimiter = ',',
+        default_value = "8,16,32,64"
+    )]
+    pub sizes: Vec<usize>,
+    /// Method to time; repeat for several. Default: all of them.
+    #[arg(long = "method", value_name = "NAME", value_parser = parse_method)]
+    pub methods: Vec<Method>,
+    /// Solver tier: exact (the definitions of ALGORITHMS.md). The live
+    /// tier is not built yet and is refused.
+    #[arg(long, value_name = "TIER", default_value = "exact")]
+    pub tier: String,
+    /// Timed solves per method, size and mode.
+    #[arg(long, value_name = "N", default_value_t = 20)]
+    pub repeats: usize,
+    /// Seed of the scenes.
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    pub seed: u64,
+    /// Print one JSON object per method, size and mode instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file (its [matching] section gives beta and the
+    /// methods' constants).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }

@@ -4,6 +4,7 @@
 //! configuration, data set), so scripts can tell "you asked wrong" from
 //! "it broke".
 
+mod bench;
 mod cli;
 mod config_cmd;
 mod demo;
@@ -11,6 +12,7 @@ mod duration;
 mod eval;
 mod failure;
 mod import;
+mod inject;
 mod progress;
 mod query;
 mod record;
@@ -25,7 +27,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use tracing_subscriber::EnvFilter;
 
-use crate::cli::{Cli, Command, ConfigCommand, ImportCommand};
+use crate::cli::{BenchCommand, Cli, Command, ConfigCommand, ImportCommand};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -44,7 +46,9 @@ fn main() -> ExitCode {
         Command::Viz(args) => viz::run(&args),
         Command::Query(args) => query::run(&args),
         Command::Record(args) => record::run(&args),
+        Command::Inject(args) => inject::run(&args),
         Command::Demo(args) => demo::run(&args),
+        Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,177 @@
+#!/usr/bin/env python3
+"""Times pygmtools' RRWM and SM on vref dataset files, for comparison with
+`vref eval` (mean solve time) and `vref bench solver`. Not part of CI.
+
+The affinity is the one vref's methods use (ALGORITHMS.md): edge affinity
+exp(-(d - d')^2 / beta) between edge lengths, every ordered pair of objects
+unless a view lists "edges"; node affinity 0 (vref's sm and rrwm ignore
+appearance) or, with --node cosine, the cosine of the features as vref's
+appearance term. pygmtools runs on its numpy backend on one thread.
+
+Usage (pip install pygmtools; numpy backend, no torch needed):
+
+    python3 tools/pygmtools_bench.py --dataset FILE.jsonl [FILE2.jsonl ...]
+        [--beta 0.01] [--method rrwm --method sm] [--repeats 5]
+        [--node zero|cosine] [--json]
+
+For each method and scene size (human objects per scene) it prints the
+median and p99 of the solve (pygm.rrwm / pygm.sm plus pygm.hungarian) and,
+separately, of building the (nn')^2 affinity matrix, plus the accuracy
+against the file's ground truth. With --json: one object per line,
+{"method", "objects", "scenes", "solve_median_us", "solve_p99_us",
+"affinity_median_us", "affinity_p99_us", "accuracy"}.
+"""
+
+import os
+
+# One thread, set before numpy is imported.
+for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+            "NUMEXPR_NUM_THREADS", "VECLIB_MAXIMUM_THREADS"):
+    os.environ[var] = "1"
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from collections import defaultdict  # noqa: E402
+
+import numpy as np  # noqa: E402
+import pygmtools as pygm  # noqa: E402
+
+pygm.set_backend("numpy")
+
+
+def view(graph):
+    """Positions, features and directed edges (both directions) of a view."""
+    objects = graph["objects"]
+    ids = [o["id"] for o in objects]
+    pos = np.array([o["position"] for o in objects], dtype=np.float64)
+    feats = [o.get("feature") or [] for o in objects]
+    dim = len(feats[0]) if feats else 0
+    feat = np.array(feats, dtype=np.float64).reshape(len(objects), dim)
+    index = {k: i for i, k in enumerate(ids)}
+    if graph.get("edges"):
+        pairs = [(index[a], index[b]) for a, b in graph["edges"] if a != b]
+        pairs = sorted({(min(p), max(p)) for p in pairs})
+    else:
+        n = len(objects)
+        pairs = [(i, j) for i in range(n) for j in range(i + 1, n)]
+    directed = pairs + [(j, i) for i, j in pairs]
+    conn = np.array(directed, dtype=np.int64).reshape(-1, 2)
+    length = np.linalg.norm(pos[conn[:, 0]] - pos[conn[:, 1]], axis=1)
+    return ids, feat, conn, length[:, None]
+
+
+def cosine(f1, f2):
+    """vref's appearance: cosine, 1 where a side has no feature or norm 0."""
+    if f1.shape[-1] == 0 or f2.shape[-1] == 0:
+        return np.ones((f1.shape[0], f2.shape[0]))
+    n1 = np.linalg.norm(f1, axis=1)[:, None]
+    n2 = np.linalg.norm(f2, axis=1)[None, :]
+    dots = f1 @ f2.T
+    with np.errstate(invalid="ignore", divide="ignore"):
+        a = dots / (n1 * n2)
+    return np.where((n1 == 0) | (n2 == 0), 1.0, a)
+
+
+def affinity(human, robot, beta, node):
+    _, hf, hc, hl = human
+    _, rf, rc, rl = robot
+    n1, n2 = hf.shape[0], rf.shape[0]
+
+    def edge_aff(e1, e2):
+        # (b, ne1, 1) x (b, ne2, 1) -> (b, ne1, ne2)
+        d = e1[:, :, None, 0] - e2[:, None, :, 0]
+        return np.exp(-(d * d) / beta)
+
+    def node_aff(f1, f2):
+        if node == "zero":
+            return np.zeros((f1.shape[0], f1.shape[1], f2.shape[1]))
+        return cosine(f1[0], f2[0])[None]
+
+    # Node "features" only carry what node_aff needs; pad an empty feature.
+    hfe = hf if hf.shape[1] else np.zeros((n1, 1))
+    rfe = rf if rf.shape[1] else np.zeros((n2, 1))
+    return pygm.utils.build_aff_mat(
+        hfe[None], hl[None], hc[None], rfe[None], rl[None], rc[None],
+        np.array([n1]), np.array([hc.shape[0]]), np.array([n2]), np.array([rc.shape[0]]),
+        node_aff_fn=node_aff, edge_aff_fn=edge_aff,
+    )
+
+
+def percentile(values, q):
+    s = sorted(values)
+    return s[max(1, math.ceil(q * len(s))) - 1]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--dataset", nargs="+", required=True)
+    parser.add_argument("--beta", type=float, default=0.01)
+    parser.add_argument("--method", action="append", choices=["rrwm", "sm"])
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--node", choices=["zero", "cosine"], default="zero")
+    parser.add_argument("--json", action="store_true")
+    args = parser.parse_args()
+    methods = args.method or ["rrwm", "sm"]
+    solvers = {"rrwm": pygm.rrwm, "sm": pygm.sm}
+
+    pairs = []
+    for path in args.dataset:
+        with open(path) as f:
+            pairs += [json.loads(line) for line in f if line.strip()]
+
+    solve_us = defaultdict(list)
+    aff_us = defaultdict(list)
+    right = defaultdict(lambda: [0, 0])
+    scenes = defaultdict(set)
+    for p in pairs:
+        human, robot = view(p["human"]), view(p["robot"])
+        n1, n2 = len(human[0]), len(robot[0])
+        truth = {h: r for h, r in p.get("ground_truth", [])}
+        for method in methods:
+            key = (method, n1)
+            scenes[key].add(p.get("name"))
+            for _ in range(args.repeats):
+                t0 = time.perf_counter()
+                K = affinity(human, robot, args.beta, args.node)
+                t1 = time.perf_counter()
+                soft = solvers[method](K, np.array([n1]), np.array([n2]))
+                X = pygm.hungarian(soft)
+                t2 = time.perf_counter()
+                aff_us[key].append((t1 - t0) * 1e6)
+                solve_us[key].append((t2 - t1) * 1e6)
+            X = X[0]
+            for i, h in enumerate(human[0]):
+                cols = np.nonzero(X[i])[0]
+                pred = robot[0][cols[0]] if len(cols) else None
+                right[key][0] += pred == truth.get(h)
+                right[key][1] += 1
+
+    if not args.json:
+        print(f"pygmtools {pygm.__version__}, numpy backend, 1 thread, {args.repeats} repeats per scene")
+        print(f"{'method':<6} {'objects':>7} {'scenes':>6} {'solve med us':>12} {'solve p99 us':>12} "
+              f"{'affinity med us':>15} {'accuracy':>8}")
+    for key in sorted(solve_us):
+        method, n = key
+        row = {
+            "method": method,
+            "objects": n,
+            "scenes": len(scenes[key]),
+            "solve_median_us": percentile(solve_us[key], 0.5),
+            "solve_p99_us": percentile(solve_us[key], 0.99),
+            "affinity_median_us": percentile(aff_us[key], 0.5),
+            "affinity_p99_us": percentile(aff_us[key], 0.99),
+            "accuracy": right[key][0] / max(1, right[key][1]),
+        }
+        if args.json:
+            print(json.dumps(row))
+        else:
+            print(f"{method:<6} {n:>7} {row['scenes']:>6} {row['solve_median_us']:>12.0f} "
+                  f"{row['solve_p99_us']:>12.0f} {row['affinity_median_us']:>15.0f} {row['accuracy']:>8.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
