@@ -14,10 +14,7 @@ use vref_wire::ReferenceAnswer;
 use vref_wire::ipc::ReferenceClient;
 use vref_wire::{AnswerStatus, ipc::IpcSettings};
 
-/// Robot track id of human object `h` in `vref inject --kind valid`.
-fn robot_id(h: u64) -> u64 {
-    1000 - 7 * h
-}
+use vref_inject::robot_id;
 
 /// One kind, where it goes, and what the matcher must say about it.
 struct Fault {

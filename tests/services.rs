@@ -9,51 +9,51 @@ use std::time::Duration;
 
 use nix::sys::signal::Signal;
 use support::processes::{Harness, eventually};
-use vref_wire::AnswerStatus;
+use vref_inject::{VALID_FEATURE_DIM, robot_id, valid_objects};
+use vref_scene::Side;
 use vref_wire::ipc::{IpcSettings, ReferenceClient};
+use vref_wire::{AnswerStatus, ObjectEntry};
 
-/// Six objects on a table in the human camera's frame (metres), each with
-/// its own colour, and the same scene seen by the robot from another pose.
-const HUMAN: [(u64, [f64; 3]); 6] = [
-    (1, [-0.20, 0.10, 0.80]),
-    (2, [0.00, 0.12, 0.95]),
-    (3, [0.18, 0.08, 0.70]),
-    (4, [0.25, 0.15, 1.05]),
-    (5, [-0.10, 0.14, 1.15]),
-    (6, [0.05, 0.05, 0.60]),
-];
-
-/// Robot track id of human object `h`.
-fn robot_id(h: u64) -> u64 {
-    1000 - 7 * h
-}
-
-/// The robot sees the workspace rotated 90 degrees about the vertical
-/// (y) axis and shifted.
-fn robot_position([x, y, z]: [f64; 3]) -> [f64; 3] {
-    [z - 0.9, y + 0.02, -x + 1.0]
-}
-
-fn feature(h: u64) -> Vec<f32> {
-    (0..6)
-        .map(|k| if k as u64 == h - 1 { 1.0 } else { 0.05 })
-        .collect()
-}
-
+/// The six-object table of `vref inject --kind valid`, as a dataset line:
+/// each view's objects with their features, and the truth.
 fn dataset() -> String {
-    let object = |id: u64, p: [f64; 3], f: Vec<f32>| serde_json::json!({"id": id, "position": p, "feature": f});
-    let human: Vec<_> = HUMAN
+    let view = |side| -> Vec<serde_json::Value> {
+        valid_objects(side)
+            .iter()
+            .map(|o| {
+                serde_json::json!({
+                    "id": o.track_id,
+                    "position": o.position.map(f64::from),
+                    "feature": o.feature[..VALID_FEATURE_DIM].to_vec(),
+                })
+            })
+            .collect()
+    };
+    let truth: Vec<_> = human_objects()
         .iter()
-        .map(|&(h, p)| object(h, p, feature(h)))
+        .map(|o| [o.track_id, robot_id(o.track_id)])
         .collect();
-    let robot: Vec<_> = HUMAN
-        .iter()
-        .rev()
-        .map(|&(h, p)| object(robot_id(h), robot_position(p), feature(h)))
-        .collect();
-    let truth: Vec<_> = HUMAN.iter().map(|&(h, _)| [h, robot_id(h)]).collect();
-    let line = serde_json::json!({"name": "table", "robot": {"objects": robot}, "human": {"objects": human}, "ground_truth": truth});
+    let line = serde_json::json!({
+        "name": "table",
+        "robot": {"objects": view(Side::Robot)},
+        "human": {"objects": view(Side::Human)},
+        "ground_truth": truth,
+    });
     format!("{line}\n")
+}
+
+fn human_objects() -> Vec<ObjectEntry> {
+    valid_objects(Side::Human)
+}
+
+/// Where the robot sees the partner of human object `h`.
+fn robot_position(h: u64) -> [f32; 3] {
+    let robot = valid_objects(Side::Robot);
+    robot
+        .iter()
+        .find(|o| o.track_id == robot_id(h))
+        .map(|o| o.position)
+        .unwrap()
 }
 
 /// A harness with the scene file and the ipc settings its config holds.
@@ -105,24 +105,17 @@ fn a_pointed_object_is_answered_correctly_end_to_end() {
     start_all(&mut h, &source);
     let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
     wait_ready(&mut client, &h);
-    for &(human, position) in &HUMAN {
+    for object in human_objects() {
+        let human = object.track_id;
         let a = client
             .by_human_object(human, Duration::from_secs(2))
             .unwrap();
         assert_eq!(a.status(), AnswerStatus::Ok, "human {human}");
         assert_eq!(a.robot_track_id, robot_id(human), "human {human}");
-        let expected = robot_position(position);
-        for k in 0..3 {
-            assert!(
-                (f64::from(a.position[k]) - expected[k]).abs() < 1e-5,
-                "{:?} vs {expected:?}",
-                a.position
-            );
-        }
+        assert_eq!(a.position, robot_position(human));
         // Pointing from the headset at the object resolves to it too.
-        let dir = position.map(|c| c as f32);
         let a = client
-            .by_ray([0.0; 3], dir, 0.05, Duration::from_secs(2))
+            .by_ray([0.0; 3], object.position, 0.05, Duration::from_secs(2))
             .unwrap();
         assert_eq!(
             (a.status(), a.human_object_id, a.robot_track_id),

@@ -26,6 +26,7 @@ mod feed;
 mod publication;
 mod replay;
 mod role;
+mod service;
 mod synthetic;
 mod ticks;
 
@@ -34,4 +35,5 @@ pub use error::{EntryError, RunError, SetupError};
 pub use feed::{Feed, Published};
 pub use publication::{Due, Publication, Ray, Target};
 pub use role::Role;
+pub use service::{FeedError, run_feed};
 pub use synthetic::synthetic_world;

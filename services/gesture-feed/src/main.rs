@@ -8,10 +8,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use tracing_subscriber::EnvFilter;
-use vref_feed::{Feed, FeedArgs, Role};
-use vref_wire::ipc::ServiceNames;
-
-const ROLE: Role = Role::Gesture;
+use vref_feed::{FeedArgs, Role, run_feed};
 
 /// The vref gesture feed: publishes what the person's AR headset sees as
 /// iceoryx2 snapshots, and where the person points. Logs go to stderr
@@ -32,56 +29,12 @@ fn main() -> ExitCode {
         .with_writer(std::io::stderr)
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
-    let config = match vref_config::Config::load(args.feed.config.as_deref()) {
-        Ok((config, source)) => {
-            tracing::info!(?source, "configuration");
-            config
-        }
+    match run_feed(Role::Gesture, &args.feed) {
+        Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
+            let code = if e.is_bad_input() { 2 } else { 1 };
             tracing::error!("{:#}", anyhow::Error::from(e));
-            return ExitCode::from(2);
-        }
-    };
-    let mut feed = match Feed::prepare(ROLE, &args.feed, &config) {
-        Ok(feed) => feed,
-        Err(e) => {
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            return ExitCode::from(2);
-        }
-    };
-    let ipc = feed.ipc();
-    let names = ServiceNames::new(&ipc.namespace);
-    tracing::info!(
-        source = %feed.describe(),
-        service = %names.snapshot(ROLE.side()),
-        gesture_service = %names.gesture(),
-        frame = ROLE.frame_name(),
-        root_path = ?ipc.root_path,
-        prefix = %ipc.prefix,
-        rate_hz = ?feed.rate_hz(),
-        gesture_rate_hz = ?feed.gesture_rate_hz(),
-        "gesture feed publishing"
-    );
-    let outcome = feed.run(|target| {
-        tracing::info!(
-            slot = target.slot,
-            human_object = target.human_id,
-            robot_object = target.robot_id,
-            "pointing at a new object"
-        );
-    });
-    match outcome {
-        Ok(published) => {
-            tracing::info!(
-                snapshots = published.snapshots,
-                gestures = published.gestures,
-                "gesture feed stopped"
-            );
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            ExitCode::from(1)
+            ExitCode::from(code)
         }
     }
 }

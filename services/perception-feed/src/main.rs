@@ -8,10 +8,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use tracing_subscriber::EnvFilter;
-use vref_feed::{Feed, FeedArgs, Role};
-use vref_wire::ipc::ServiceNames;
-
-const ROLE: Role = Role::Perception;
+use vref_feed::{FeedArgs, Role, run_feed};
 
 /// The vref perception feed: publishes what the robot's camera sees as
 /// iceoryx2 snapshots. Logs go to stderr (RUST_LOG, default info).
@@ -31,41 +28,12 @@ fn main() -> ExitCode {
         .with_writer(std::io::stderr)
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
-    let config = match vref_config::Config::load(args.feed.config.as_deref()) {
-        Ok((config, source)) => {
-            tracing::info!(?source, "configuration");
-            config
-        }
+    match run_feed(Role::Perception, &args.feed) {
+        Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
+            let code = if e.is_bad_input() { 2 } else { 1 };
             tracing::error!("{:#}", anyhow::Error::from(e));
-            return ExitCode::from(2);
-        }
-    };
-    let mut feed = match Feed::prepare(ROLE, &args.feed, &config) {
-        Ok(feed) => feed,
-        Err(e) => {
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            return ExitCode::from(2);
-        }
-    };
-    let ipc = feed.ipc();
-    tracing::info!(
-        source = %feed.describe(),
-        service = %ServiceNames::new(&ipc.namespace).snapshot(ROLE.side()),
-        frame = ROLE.frame_name(),
-        root_path = ?ipc.root_path,
-        prefix = %ipc.prefix,
-        rate_hz = ?feed.rate_hz(),
-        "perception feed publishing"
-    );
-    match feed.run(|_| {}) {
-        Ok(published) => {
-            tracing::info!(snapshots = published.snapshots, "perception feed stopped");
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            ExitCode::from(1)
+            ExitCode::from(code)
         }
     }
 }
