@@ -1,3 +1,5 @@
+use std::cell::OnceCell;
+
 use vref_scene::SceneGraph;
 
 /// Kernel tables above this many entries (8 bytes each) are not stored;
@@ -28,8 +30,11 @@ pub struct SpatialAffinity {
     human_edges: Vec<Edge>,
     robot_edges: Vec<Edge>,
     /// Kernel values, row `e` for human edge `e`, column `f` for robot edge
-    /// `f`; `None` when too large to store.
-    table: Option<Vec<f64>>,
+    /// `f`, built on the first product (a method that never multiplies by
+    /// S, like `appearance`, never pays for it); never built when larger
+    /// than `table_limit` entries.
+    table: OnceCell<Vec<f64>>,
+    table_limit: usize,
     /// Whether the robot graph is fully connected (no edge list), which
     /// allows the vectorised product.
     robot_complete: bool,
@@ -44,23 +49,39 @@ impl SpatialAffinity {
     fn with_table_limit(human: &SceneGraph, robot: &SceneGraph, beta: f64, limit: usize) -> Self {
         let human_edges = edges_of(human);
         let robot_edges = edges_of(robot);
-        let entries = human_edges.len().saturating_mul(robot_edges.len());
-        let table = (entries <= limit).then(|| {
-            let mut table = Vec::with_capacity(entries);
-            for e in &human_edges {
-                table.extend(robot_edges.iter().map(|f| kernel(e.length, f.length, beta)));
-            }
-            table
-        });
         Self {
             n: human.len(),
             m: robot.len(),
             beta,
             human_edges,
             robot_edges,
-            table,
+            table: OnceCell::new(),
+            table_limit: limit,
             robot_complete: robot.edges().is_none(),
         }
+    }
+
+    /// The kernel table, built now if it has not been and may be.
+    fn table(&self) -> Option<&[f64]> {
+        let entries = self
+            .human_edges
+            .len()
+            .saturating_mul(self.robot_edges.len());
+        if entries > self.table_limit {
+            return None;
+        }
+        let table = self.table.get_or_init(|| {
+            let mut table = Vec::with_capacity(entries);
+            for e in &self.human_edges {
+                table.extend(
+                    self.robot_edges
+                        .iter()
+                        .map(|f| kernel(e.length, f.length, self.beta)),
+                );
+            }
+            table
+        });
+        Some(table)
     }
 
     /// Number of human and robot objects.
@@ -142,7 +163,7 @@ impl SpatialAffinity {
     /// of the table, or computed into `scratch` when there is no table.
     fn kernel_row<'a>(&'a self, e: usize, scratch: &'a mut Vec<f64>) -> &'a [f64] {
         let width = self.robot_edges.len();
-        match &self.table {
+        match self.table() {
             Some(table) => &table[e * width..(e + 1) * width],
             None => {
                 let length = self.human_edges[e].length;
@@ -260,7 +281,7 @@ mod tests {
         let (h, r) = (graph(6, 1.0), graph(5, 1.1));
         let stored = SpatialAffinity::with_table_limit(&h, &r, 0.3, usize::MAX);
         let recomputed = SpatialAffinity::with_table_limit(&h, &r, 0.3, 0);
-        assert!(stored.table.is_some() && recomputed.table.is_none());
+        assert!(stored.table().is_some() && recomputed.table().is_none());
         let x: Vec<f64> = (0..30).map(|k| (k as f64 * 0.37).fract()).collect();
         let (mut a, mut b) = (vec![0.0; 30], vec![0.0; 30]);
         stored.mul(&x, &mut a);

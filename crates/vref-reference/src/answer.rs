@@ -115,20 +115,21 @@ impl ReferenceState {
         answer.robot_track_id = matched.id;
         answer.position = matched.position.coords.map(|c| c as f32).into();
         answer.confidence = share(soft[col]) as f32;
-        let mut others: Vec<usize> = (0..m).filter(|&b| b != col).collect();
-        others.sort_by(|&a, &b| soft[b].total_cmp(&soft[a]));
-        for (slot, &b) in answer
+        let best = next_best(soft, col);
+        let mut count = 0;
+        for (slot, b) in answer
             .alternatives
             .iter_mut()
-            .zip(others.iter().take(MAX_ALTERNATIVES))
+            .zip(best.into_iter().flatten())
         {
             *slot = Alternative {
                 robot_track_id: objects[b].id,
                 confidence: share(soft[b]) as f32,
                 reserved: 0,
             };
+            count += 1;
         }
-        answer.alternative_count = others.len().min(MAX_ALTERNATIVES) as u32;
+        answer.alternative_count = count;
         answer.status = if f64::from(answer.confidence) < self.ambiguity_threshold {
             AnswerStatus::Ambiguous as u32
         } else {
@@ -149,6 +150,31 @@ impl ReferenceState {
         }
         answer
     }
+}
+
+/// The columns with the highest soft values other than `chosen`, best
+/// first (ties in column order), found in one pass without allocating:
+/// this runs on the query path.
+fn next_best(soft: &[f64], chosen: usize) -> [Option<usize>; MAX_ALTERNATIVES] {
+    let mut best = [None; MAX_ALTERNATIVES];
+    for b in (0..soft.len()).filter(|&b| b != chosen) {
+        // Insertion into a short sorted list; the last entry falls off.
+        let mut candidate = b;
+        for slot in &mut best {
+            match *slot {
+                None => {
+                    *slot = Some(candidate);
+                    break;
+                }
+                Some(held) if soft[candidate] > soft[held] => {
+                    *slot = Some(candidate);
+                    candidate = held;
+                }
+                Some(_) => {}
+            }
+        }
+    }
+    best
 }
 
 fn age(feed: &Feed, now: Instant) -> Duration {
@@ -189,5 +215,19 @@ fn blank(request_id: u64) -> ReferenceAnswer {
         alternatives: [Alternative::default(); MAX_ALTERNATIVES],
         schema_version: SCHEMA_VERSION,
         reserved: 0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::next_best;
+
+    #[test]
+    fn next_best_orders_the_others_and_skips_the_chosen() {
+        let soft = [0.1, 0.5, 0.3, 0.9, 0.3, 0.05];
+        assert_eq!(next_best(&soft, 3), [Some(1), Some(2), Some(4)]);
+        assert_eq!(next_best(&soft, 1), [Some(3), Some(2), Some(4)]);
+        assert_eq!(next_best(&[0.2, 0.7], 1), [Some(0), None, None]);
+        assert_eq!(next_best(&[0.7], 0), [None, None, None]);
     }
 }
