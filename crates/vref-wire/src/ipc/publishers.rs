@@ -70,21 +70,9 @@ impl SnapshotPublisher {
         timestamp_ns: u64,
         object: impl FnMut(usize) -> ObjectEntry,
     ) -> Result<u64, IpcError> {
-        let sample = self
-            .publisher
-            .loan_slice_uninit(count)
-            .map_err(|e| iceoryx_err("loaning a snapshot", e))?;
         self.sequence += 1;
         let header = self.header(count, feature_dim, timestamp_ns);
-        let mut sample = sample;
-        *sample.user_header_mut() = header;
-        sample
-            .write_from_fn(object)
-            .send()
-            .map_err(|e| iceoryx_err("sending a snapshot", e))?;
-        self.notifier
-            .notify()
-            .map_err(|e| iceoryx_err("notifying a snapshot", e))?;
+        self.send(header, count, object)?;
         Ok(self.sequence)
     }
 
@@ -96,13 +84,24 @@ impl SnapshotPublisher {
         header: SnapshotHeader,
         entries: &[ObjectEntry],
     ) -> Result<(), IpcError> {
+        self.send(header, entries.len(), |i| entries[i])
+    }
+
+    /// Loans `count` entries, writes `header` and `object(i)` in place,
+    /// sends and wakes the subscribers.
+    fn send(
+        &mut self,
+        header: SnapshotHeader,
+        count: usize,
+        object: impl FnMut(usize) -> ObjectEntry,
+    ) -> Result<(), IpcError> {
         let mut sample = self
             .publisher
-            .loan_slice_uninit(entries.len())
+            .loan_slice_uninit(count)
             .map_err(|e| iceoryx_err("loaning a snapshot", e))?;
         *sample.user_header_mut() = header;
         sample
-            .write_from_fn(|i| entries[i])
+            .write_from_fn(object)
             .send()
             .map_err(|e| iceoryx_err("sending a snapshot", e))?;
         self.notifier
