@@ -4,9 +4,10 @@
 
 use std::time::Instant;
 
-use vref_scene::{GraphError, Limits, SceneGraph, SceneObject};
+use vref_scene::{GraphError, Limits, SceneGraph, SceneObject, Side};
 
-use crate::{MatchError, Method, Params, Problem, solve};
+use crate::engine::Engine;
+use crate::{MatchError, Method, Params, Tier};
 
 /// Extent of the synthetic workspace box, metres (a table top).
 const BOX: [f64; 3] = [0.6, 0.4, 0.2];
@@ -40,9 +41,8 @@ pub enum BenchError {
 pub enum Mode {
     /// Affinities, solve and Hungarian of a new scene.
     Full,
-    /// The solve after one object of a solved scene moved. No incremental
-    /// engine exists yet, so this is a full solve of the moved scene: the
-    /// baseline that an incremental engine is measured against.
+    /// The engine's update and solve after one human object of a solved
+    /// scene moved.
     Incremental,
 }
 
@@ -59,6 +59,7 @@ impl Mode {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Timing {
     pub method: Method,
+    pub tier: Tier,
     pub objects: usize,
     pub mode: Mode,
     pub median_us: f64,
@@ -150,9 +151,13 @@ impl RigidScene {
     }
 }
 
-/// Times `repeats` solves of `method` on `objects`-object scenes.
+/// Times `repeats` solves of `method` in `tier` on `objects`-object scenes,
+/// through the matcher's [`Engine`]: a full solve is a new engine given
+/// both views; an incremental one is the update of the moved view and the
+/// solve of an engine that had solved the scene before (not timed).
 pub fn time_solver(
     method: Method,
+    tier: Tier,
     objects: usize,
     mode: Mode,
     params: &Params,
@@ -169,24 +174,34 @@ pub fn time_solver(
     let mut iterations = Vec::with_capacity(repeats);
     for r in 0..repeats {
         let base = &scenes[r % scenes.len()];
-        let moved;
-        let scene = match mode {
-            Mode::Full => base,
+        let mut engine = Engine::new(method, tier, *params)?;
+        let timed = match mode {
+            Mode::Full => {
+                let start = Instant::now();
+                engine.update(Side::Human, &base.human)?;
+                engine.update(Side::Robot, &base.robot)?;
+                let iterations = engine.solve()?.0.iterations;
+                (start.elapsed(), iterations)
+            }
             Mode::Incremental => {
-                moved = base.moved(r, seed.wrapping_mul(31).wrapping_add(r as u64))?;
-                &moved
+                let moved = base.moved(r, seed.wrapping_mul(31).wrapping_add(r as u64))?;
+                engine.update(Side::Human, &base.human)?;
+                engine.update(Side::Robot, &base.robot)?;
+                engine.solve()?;
+                let start = Instant::now();
+                engine.update(Side::Human, &moved.human)?;
+                let iterations = engine.solve()?.0.iterations;
+                (start.elapsed(), iterations)
             }
         };
-        let start = Instant::now();
-        let problem = Problem::new(&scene.human, &scene.robot, params.beta)?;
-        let solution = solve(method, &problem, params)?;
-        micros.push(start.elapsed().as_secs_f64() * 1e6);
-        iterations.push(solution.iterations);
+        micros.push(timed.0.as_secs_f64() * 1e6);
+        iterations.push(timed.1);
     }
     micros.sort_by(f64::total_cmp);
     iterations.sort_unstable();
     Ok(Timing {
         method,
+        tier,
         objects,
         mode,
         median_us: percentile(&micros, 0.5),
@@ -332,8 +347,8 @@ mod tests {
     #[test]
     fn rrwm_recovers_the_rigid_correspondence() {
         let scene = RigidScene::new(10, 1).unwrap();
-        let problem = Problem::new(&scene.human, &scene.robot, 0.01).unwrap();
-        let solution = solve(Method::Rrwm, &problem, &Params::default()).unwrap();
+        let problem = crate::Problem::new(&scene.human, &scene.robot, 0.01).unwrap();
+        let solution = crate::solve(Method::Rrwm, &problem, &Params::default()).unwrap();
         let pairs = solution.id_pairs(&scene.human, &scene.robot);
         // The robot objects are a shuffled copy: their positions tell the
         // permutation back.
@@ -362,11 +377,31 @@ mod tests {
 
     #[test]
     fn timing_reports_percentiles_and_refuses_bad_input() {
-        let t = time_solver(Method::Sm, 6, Mode::Incremental, &Params::default(), 3, 1).unwrap();
-        assert!(t.median_us > 0.0 && t.p99_us >= t.median_us);
-        assert!(t.iterations > 0);
+        for tier in Tier::ALL {
+            let t = time_solver(
+                Method::Sm,
+                tier,
+                6,
+                Mode::Incremental,
+                &Params::default(),
+                3,
+                1,
+            )
+            .unwrap();
+            assert!(t.median_us > 0.0 && t.p99_us >= t.median_us);
+            assert!(t.iterations > 0);
+            assert_eq!(t.tier, tier);
+        }
         assert_eq!(
-            time_solver(Method::Sm, 6, Mode::Full, &Params::default(), 0, 1),
+            time_solver(
+                Method::Sm,
+                Tier::Exact,
+                6,
+                Mode::Full,
+                &Params::default(),
+                0,
+                1
+            ),
             Err(BenchError::NoRepeats)
         );
         assert_eq!(

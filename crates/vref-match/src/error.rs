@@ -21,4 +21,10 @@ pub enum MatchError {
     },
     #[error("unknown method `{0}` (expected one of: appearance, sm, rrwm, paper)")]
     UnknownMethod(String),
+    #[error("the matcher engine takes fully connected graphs; this one has an edge list")]
+    EdgeListInEngine,
+    #[error("unknown tier `{0}` (expected exact or live)")]
+    UnknownTier(String),
+    #[error("warm start has {len} entries, expected {expected}")]
+    WarmStartShape { len: usize, expected: usize },
 }

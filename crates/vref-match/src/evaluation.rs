@@ -2,12 +2,16 @@ use std::time::{Duration, Instant};
 
 use vref_scene::ScenePair;
 
-use crate::{MatchError, Method, Params, Problem, SceneScore, Summary, score_scene, solve};
+use crate::{
+    MatchError, Method, Params, Problem, SceneScore, SolveOptions, Summary, Tier, score_scene,
+    solve_with,
+};
 
 /// Scores of several methods accumulated scene by scene.
 #[derive(Debug, Clone)]
 pub struct Evaluation {
     params: Params,
+    tier: Tier,
     methods: Vec<Method>,
     scores: Vec<Vec<SceneScore>>,
     solve_times: Vec<Duration>,
@@ -27,10 +31,18 @@ impl Evaluation {
         params.validate()?;
         Ok(Self {
             params,
+            tier: Tier::Exact,
             methods: methods.to_vec(),
             scores: vec![Vec::new(); methods.len()],
             solve_times: vec![Duration::ZERO; methods.len()],
         })
+    }
+
+    /// Runs the methods in `tier` (default exact). The live tier starts
+    /// every scene cold: scenes of a dataset are unrelated.
+    pub fn with_tier(mut self, tier: Tier) -> Self {
+        self.tier = tier;
+        self
     }
 
     /// Matches `pair` with every method and records its scores.
@@ -38,8 +50,20 @@ impl Evaluation {
         let human_ids: Vec<u64> = pair.human.objects().iter().map(|o| o.id).collect();
         for (k, &method) in self.methods.iter().enumerate() {
             let start = Instant::now();
-            let problem = Problem::new(&pair.human, &pair.robot, self.params.beta)?;
-            let solution = solve(method, &problem, &self.params)?;
+            let (problem, options) = match self.tier {
+                Tier::Exact => (
+                    Problem::new(&pair.human, &pair.robot, self.params.beta)?,
+                    SolveOptions::default(),
+                ),
+                Tier::Live => (
+                    Problem::live(&pair.human, &pair.robot, &self.params)?,
+                    SolveOptions {
+                        warm_start: None,
+                        stop_when_stable: Some(self.params.live.stable_iterations),
+                    },
+                ),
+            };
+            let solution = solve_with(method, &problem, &self.params, options)?;
             self.solve_times[k] += start.elapsed();
             let predicted = solution.id_pairs(&pair.human, &pair.robot);
             self.scores[k].push(score_scene(&human_ids, &predicted, &pair.ground_truth));

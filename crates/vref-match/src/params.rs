@@ -15,6 +15,8 @@ pub struct Params {
     pub sm: SmParams,
     pub rrwm: RrwmParams,
     pub paper: PaperParams,
+    /// Shortcuts of the live tier (unused by the exact tier).
+    pub live: LiveParams,
 }
 
 /// Spectral matching's power iteration.
@@ -53,6 +55,36 @@ pub struct PaperParams {
     pub max_iter: usize,
 }
 
+/// The live tier's shortcuts, each measured in the README's performance
+/// section.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LiveParams {
+    /// Candidate partners kept for every object at least (its most similar
+    /// ones by appearance), on both sides.
+    pub candidates_min: usize,
+    /// Candidate partners kept for a human object at most.
+    pub candidates_max: usize,
+    /// Partners whose appearance affinity is within this of the object's
+    /// best are kept too (up to `candidates_max`), so look-alikes all stay
+    /// candidates.
+    pub appearance_margin: f64,
+    /// Stop once every row's best partner has not changed for this many
+    /// iterations.
+    pub stable_iterations: usize,
+}
+
+impl Default for LiveParams {
+    fn default() -> Self {
+        Self {
+            candidates_min: 4,
+            candidates_max: 10,
+            appearance_margin: 0.2,
+            stable_iterations: 3,
+        }
+    }
+}
+
 impl Default for Params {
     fn default() -> Self {
         Self {
@@ -62,6 +94,7 @@ impl Default for Params {
             sm: SmParams::default(),
             rrwm: RrwmParams::default(),
             paper: PaperParams::default(),
+            live: LiveParams::default(),
         }
     }
 }
@@ -118,11 +151,28 @@ impl Params {
                 expected: "in (0, 300]",
             });
         }
+        if !(self.live.appearance_margin.is_finite() && self.live.appearance_margin >= 0.0) {
+            return Err(MatchError::BadParameter {
+                name: "live.appearance_margin",
+                value: self.live.appearance_margin,
+                expected: "non-negative and finite",
+            });
+        }
+        if self.live.candidates_max < self.live.candidates_min {
+            return Err(MatchError::BadParameter {
+                name: "live.candidates_max",
+                value: self.live.candidates_max as f64,
+                expected: "at least live.candidates_min",
+            });
+        }
         for (name, count) in [
             ("sinkhorn_max_rounds", self.sinkhorn_max_rounds),
             ("sm.max_iter", self.sm.max_iter),
             ("rrwm.max_iter", self.rrwm.max_iter),
             ("paper.max_iter", self.paper.max_iter),
+            ("live.candidates_min", self.live.candidates_min),
+            ("live.candidates_max", self.live.candidates_max),
+            ("live.stable_iterations", self.live.stable_iterations),
         ] {
             if count == 0 {
                 return Err(MatchError::BadParameter {

@@ -1,6 +1,9 @@
 use vref_scene::SceneGraph;
 
-use crate::{MatchError, SpatialAffinity, appearance_affinity};
+use crate::{
+    MatchError, PairAffinity, Params, SpatialAffinity, SpatialTerm, appearance_affinity,
+    candidate_pairs, distance_matrix,
+};
 
 /// Everything a method needs about two graphs: the appearance affinity
 /// (row-major `n x m`) and the spatial affinity S.
@@ -9,32 +12,64 @@ pub struct Problem {
     pub n: usize,
     pub m: usize,
     pub appearance: Vec<f64>,
-    pub spatial: SpatialAffinity,
+    pub spatial: SpatialTerm,
 }
 
 impl Problem {
     /// Builds the affinities of human graph `human` (rows) against robot
-    /// graph `robot` (columns) with spatial bandwidth `beta`.
+    /// graph `robot` (columns) with spatial bandwidth `beta`: every pair
+    /// (the exact tier).
     pub fn new(human: &SceneGraph, robot: &SceneGraph, beta: f64) -> Result<Self, MatchError> {
-        if human.is_empty() {
-            return Err(MatchError::EmptyGraph { side: "human" });
-        }
-        if robot.is_empty() {
-            return Err(MatchError::EmptyGraph { side: "robot" });
-        }
-        if !(beta.is_finite() && beta > 0.0) {
-            return Err(MatchError::BadParameter {
-                name: "beta",
-                value: beta,
-                expected: "positive and finite",
-            });
-        }
+        check_graphs(human, robot)?;
+        check_beta(beta)?;
         Ok(Self {
             n: human.len(),
             m: robot.len(),
             appearance: appearance_affinity(human, robot)?,
-            spatial: SpatialAffinity::new(human, robot, beta),
+            spatial: SpatialTerm::Edges(SpatialAffinity::new(human, robot, beta)),
         })
+    }
+
+    /// The live tier's problem: only the candidate pairs of
+    /// [`candidate_pairs`]; every other pair has appearance 0 and no
+    /// spatial affinity, so methods leave it at zero.
+    pub fn live(
+        human: &SceneGraph,
+        robot: &SceneGraph,
+        params: &Params,
+    ) -> Result<Self, MatchError> {
+        check_graphs(human, robot)?;
+        check_beta(params.beta)?;
+        let (n, m) = (human.len(), robot.len());
+        let appearance = appearance_affinity(human, robot)?;
+        let pairs = candidate_pairs(&appearance, n, m, &params.live);
+        let spatial = PairAffinity::new(
+            n,
+            m,
+            pairs,
+            &distance_matrix(human),
+            &distance_matrix(robot),
+            params.beta,
+        );
+        Ok(Self::pruned(n, m, appearance, spatial))
+    }
+
+    /// A live-tier problem from its parts: `appearance` is masked to the
+    /// candidate pairs of `spatial`.
+    pub fn pruned(n: usize, m: usize, mut appearance: Vec<f64>, spatial: PairAffinity) -> Self {
+        let mut keep = vec![false; n * m];
+        spatial.pairs().iter().for_each(|&f| keep[f] = true);
+        appearance
+            .iter_mut()
+            .zip(&keep)
+            .filter(|(_, kept)| !**kept)
+            .for_each(|(a, _)| *a = 0.0);
+        Self {
+            n,
+            m,
+            appearance,
+            spatial: SpatialTerm::Pairs(spatial),
+        }
     }
 
     /// Number of candidate pairs, `n * m`.
@@ -44,5 +79,27 @@ impl Problem {
 
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+}
+
+fn check_graphs(human: &SceneGraph, robot: &SceneGraph) -> Result<(), MatchError> {
+    if human.is_empty() {
+        return Err(MatchError::EmptyGraph { side: "human" });
+    }
+    if robot.is_empty() {
+        return Err(MatchError::EmptyGraph { side: "robot" });
+    }
+    Ok(())
+}
+
+pub(crate) fn check_beta(beta: f64) -> Result<(), MatchError> {
+    if beta.is_finite() && beta > 0.0 {
+        Ok(())
+    } else {
+        Err(MatchError::BadParameter {
+            name: "beta",
+            value: beta,
+            expected: "positive and finite",
+        })
     }
 }

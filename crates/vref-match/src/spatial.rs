@@ -61,6 +61,76 @@ impl SpatialAffinity {
         }
     }
 
+    /// Fully connected graphs given by their distance matrices (`n x n`
+    /// and `m x m`, row-major).
+    pub fn from_distances(n: usize, m: usize, human: &[f64], robot: &[f64], beta: f64) -> Self {
+        Self {
+            n,
+            m,
+            beta,
+            human_edges: complete_edges(n, human),
+            robot_edges: complete_edges(m, robot),
+            table: OnceCell::new(),
+            table_limit: MAX_TABLE_ENTRIES,
+            robot_complete: true,
+        }
+    }
+
+    /// Like [`SpatialAffinity::from_distances`], with the kernel table
+    /// built now: values of edge pairs whose four objects did not change
+    /// are copied from `previous` instead of recomputed. `human_old[i]` is
+    /// the index human object `i` had in `previous` if it did not move
+    /// (likewise `robot_old`); `previous` must be fully connected too.
+    pub fn updated(
+        previous: &SpatialAffinity,
+        human_old: &[Option<usize>],
+        robot_old: &[Option<usize>],
+        human: &[f64],
+        robot: &[f64],
+    ) -> Self {
+        let (n, m) = (human_old.len(), robot_old.len());
+        let next = Self::from_distances(n, m, human, robot, previous.beta);
+        let entries = next
+            .human_edges
+            .len()
+            .saturating_mul(next.robot_edges.len());
+        let Some(old_table) = previous.table().filter(|_| entries <= next.table_limit) else {
+            return next;
+        };
+        let old_edge = |edge: &Edge, map: &[Option<usize>], count: usize| -> Option<usize> {
+            let (i, j) = (map[edge.i]?, map[edge.j]?);
+            Some(complete_edge_index(i.min(j), i.max(j), count))
+        };
+        let robot_slots: Vec<Option<usize>> = next
+            .robot_edges
+            .iter()
+            .map(|f| old_edge(f, robot_old, previous.m))
+            .collect();
+        let old_width = previous.robot_edges.len();
+        let mut table = Vec::with_capacity(entries);
+        for e in &next.human_edges {
+            match old_edge(e, human_old, previous.n) {
+                Some(oe) => {
+                    let old_row = &old_table[oe * old_width..(oe + 1) * old_width];
+                    table.extend(next.robot_edges.iter().zip(&robot_slots).map(|(f, slot)| {
+                        match slot {
+                            Some(of) => old_row[*of],
+                            None => kernel(e.length, f.length, next.beta),
+                        }
+                    }));
+                }
+                None => table.extend(
+                    next.robot_edges
+                        .iter()
+                        .map(|f| kernel(e.length, f.length, next.beta)),
+                ),
+            }
+        }
+        // A fresh cell cannot be full: `set` only fails on a full cell.
+        let _ = next.table.set(table);
+        next
+    }
+
     /// The kernel table, built now if it has not been and may be.
     fn table(&self) -> Option<&[f64]> {
         let entries = self
@@ -238,6 +308,24 @@ fn edge_block(
 fn kernel(d: f64, d2: f64, beta: f64) -> f64 {
     let diff = d - d2;
     (-(diff * diff) / beta).exp()
+}
+
+/// Edges `(0,1), (0,2), .., (1,2), ..` of a complete graph of `n` objects
+/// with the lengths of distance matrix `d`.
+fn complete_edges(n: usize, d: &[f64]) -> Vec<Edge> {
+    (0..n)
+        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+        .map(|(i, j)| Edge {
+            i,
+            j,
+            length: d[i * n + j],
+        })
+        .collect()
+}
+
+/// Position of edge `(i, j)`, `i < j`, in [`complete_edges`] of `n` objects.
+fn complete_edge_index(i: usize, j: usize, n: usize) -> usize {
+    i * (2 * n - i - 1) / 2 + (j - i - 1)
 }
 
 fn edges_of(graph: &SceneGraph) -> Vec<Edge> {

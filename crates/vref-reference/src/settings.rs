@@ -1,5 +1,5 @@
 use serde::{Deserialize, Serialize};
-use vref_match::Method;
+use vref_match::{Method, Tier};
 
 /// The `[matcher]` section of config/vref.toml.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -7,6 +7,9 @@ use vref_match::Method;
 pub struct MatcherSettings {
     /// Matching method the service uses (appearance, sm, rrwm, paper).
     pub method: String,
+    /// Solver tier: `live` (candidate pairs pruned by appearance, early
+    /// stop, warm start across snapshots) or `exact` (ALGORITHMS.md).
+    pub tier: String,
     /// A feed silent for longer makes answers `stale`, milliseconds.
     pub stale_after_ms: u64,
     /// How often dead nodes of crashed processes are cleaned up, ms.
@@ -22,6 +25,7 @@ impl Default for MatcherSettings {
     fn default() -> Self {
         Self {
             method: "paper".to_owned(),
+            tier: "live".to_owned(),
             stale_after_ms: 500,
             cleanup_interval_ms: 250,
             ambiguity_threshold: 0.0,
@@ -33,5 +37,10 @@ impl MatcherSettings {
     /// The configured method, or an error naming the bad value.
     pub fn method(&self) -> Result<Method, vref_match::MatchError> {
         self.method.parse()
+    }
+
+    /// The configured tier, or an error naming the bad value.
+    pub fn tier(&self) -> Result<Tier, vref_match::MatchError> {
+        self.tier.parse()
     }
 }

@@ -1,6 +1,7 @@
 use std::time::{Duration, Instant};
 
-use vref_match::{MatchError, Method, Params, Problem, Solution, solve};
+use vref_match::engine::Engine;
+use vref_match::{MatchError, Params, Solution};
 use vref_scene::{Limits, Side};
 use vref_wire::{ObjectEntry, PointingRay, Ray, SnapshotHeader, ValidSnapshot, validate_snapshot};
 
@@ -29,11 +30,12 @@ pub(crate) struct Cached {
     pub solution: Solution,
 }
 
+/// A snapshot's (session, sequence).
+type SnapshotKey = (u64, u64);
+
 /// Everything the matcher knows.
 #[derive(Debug)]
 pub struct ReferenceState {
-    pub(crate) method: Method,
-    pub(crate) params: Params,
     pub(crate) limits: Limits,
     pub(crate) stale_after: Duration,
     pub(crate) ambiguity_threshold: f64,
@@ -41,6 +43,10 @@ pub struct ReferenceState {
     pub(crate) human: Option<Feed>,
     pub(crate) gesture: Option<Ray>,
     pub(crate) cached: Option<Cached>,
+    /// Incremental solver; `fed` names the snapshots it holds.
+    engine: Engine,
+    fed_robot: Option<SnapshotKey>,
+    fed_human: Option<SnapshotKey>,
     rejections: Rejections,
     solves: u64,
 }
@@ -52,9 +58,11 @@ impl ReferenceState {
         limits: Limits,
     ) -> Result<Self, MatchError> {
         params.validate()?;
+        let method = settings.method()?;
         Ok(Self {
-            method: settings.method()?,
-            params,
+            engine: Engine::new(method, settings.tier()?, params)?,
+            fed_robot: None,
+            fed_human: None,
             limits,
             stale_after: Duration::from_millis(settings.stale_after_ms),
             ambiguity_threshold: settings.ambiguity_threshold,
@@ -180,12 +188,17 @@ impl ReferenceState {
         {
             return Ok(false);
         }
-        let problem = Problem::new(
-            &human.snapshot.graph,
-            &robot.snapshot.graph,
-            self.params.beta,
-        )?;
-        let solution = solve(self.method, &problem, &self.params)?;
+        // The engine diffs each new snapshot by track id against the one
+        // it holds, so only changed objects cost work.
+        if self.fed_robot != Some(rk) {
+            self.engine.update(Side::Robot, &robot.snapshot.graph)?;
+            self.fed_robot = Some(rk);
+        }
+        if self.fed_human != Some(hk) {
+            self.engine.update(Side::Human, &human.snapshot.graph)?;
+            self.fed_human = Some(hk);
+        }
+        let solution = self.engine.solve()?.0.clone();
         self.cached = Some(Cached {
             robot: rk,
             human: hk,

@@ -1,7 +1,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
-use vref_match::Method;
+use vref_match::{Method, Tier};
 
 /// vref: which object does the person mean? Graph matching of the robot's
 /// and the AR headset's views of one workspace.
@@ -93,6 +93,10 @@ pub struct EvalArgs {
     /// pixels: 2500).
     #[arg(long, value_name = "B", allow_negative_numbers = true)]
     pub beta: Option<f64>,
+    /// Solver tier: exact (ALGORITHMS.md) or live (the matcher's shortcuts:
+    /// candidate pairs pruned by appearance, early stop; each scene cold).
+    #[arg(long, value_name = "TIER", value_parser = parse_tier, default_value = "exact")]
+    pub tier: Tier,
     /// Print one JSON object per method on stdout instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -204,6 +208,10 @@ fn parse_method(s: &str) -> Result<Method, String> {
     s.parse().map_err(|e: vref_match::MatchError| e.to_string())
 }
 
+fn parse_tier(s: &str) -> Result<Tier, String> {
+    s.parse().map_err(|e: vref_match::MatchError| e.to_string())
+}
+
 fn parse_sweep(s: &str) -> Result<vref_sim::NoiseSweep, String> {
     s.parse().map_err(|e: vref_sim::SweepError| e.to_string())
 }
@@ -293,9 +301,9 @@ pub enum BenchCommand {
     /// objects per view (random positions in a 0.6 x 0.4 x 0.2 m box, the
     /// robot view a rigid motion plus 2 mm noise, 48-d features): median
     /// and p99 of a full solve (affinities, solve, Hungarian) and of the
-    /// solve after one object moved ("incremental"), and the median
-    /// iteration count. There is no incremental engine yet: "incremental"
-    /// is a full solve of the moved scene, the baseline for that engine.
+    /// solve after one object moved ("incremental": the matcher engine's
+    /// update by track id and its next solve), and the median iteration
+    /// count.
     Solver(BenchSolverArgs),
 }
 
@@ -312,10 +320,11 @@ pub struct BenchSolverArgs {
     /// Method to time; repeat for several. Default: all of them.
     #[arg(long = "method", value_name = "NAME", value_parser = parse_method)]
     pub methods: Vec<Method>,
-    /// Solver tier: exact (the definitions of ALGORITHMS.md). The live
-    /// tier is not built yet and is refused.
-    #[arg(long, value_name = "TIER", default_value = "exact")]
-    pub tier: String,
+    /// Solver tier; repeat for both: exact (the definitions of
+    /// ALGORITHMS.md) or live (candidate pairs pruned by appearance, early
+    /// stop, warm start: what the matcher serves). Default: exact.
+    #[arg(long = "tier", value_name = "TIER", value_parser = parse_tier)]
+    pub tiers: Vec<Tier>,
     /// Timed solves per method, size and mode.
     #[arg(long, value_name = "N", default_value_t = 20)]
     pub repeats: usize,

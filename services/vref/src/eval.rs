@@ -30,7 +30,8 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     };
     let mut evaluation = Evaluation::new(&methods, params)
         .context("--beta")
-        .bad_input()?;
+        .bad_input()?
+        .with_tier(args.tier);
 
     let file = File::open(dataset_path)
         .with_context(|| format!("opening {}", dataset_path.display()))
@@ -56,11 +57,11 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     if args.json {
         let lines: String = reports
             .iter()
-            .map(|r| format!("{}\n", json_line(r, &dataset)))
+            .map(|r| format!("{}\n", json_line(r, &dataset, args.tier)))
             .collect();
         stdout::print(&lines)?;
     } else {
-        stdout::print(&table(&reports, &dataset))?;
+        stdout::print(&table(&reports, &format!("{dataset} ({} tier)", args.tier)))?;
     }
     Ok(())
 }
@@ -69,6 +70,7 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
 #[derive(serde::Serialize)]
 struct JsonLine<'a> {
     method: &'a str,
+    tier: &'a str,
     dataset: &'a str,
     scenes: usize,
     accuracy: f64,
@@ -80,10 +82,11 @@ struct JsonLine<'a> {
     mean_solve_us: f64,
 }
 
-fn json_line(report: &MethodReport, dataset: &str) -> String {
+fn json_line(report: &MethodReport, dataset: &str, tier: vref_match::Tier) -> String {
     let s = &report.summary;
     let line = JsonLine {
         method: report.method.name(),
+        tier: tier.name(),
         dataset,
         scenes: s.scenes,
         accuracy: s.accuracy.mean,

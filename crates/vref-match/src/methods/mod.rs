@@ -5,6 +5,7 @@ mod appearance_only;
 mod paper;
 mod rrwm;
 mod sm;
+mod stability;
 mod vector;
 
 use std::fmt;
@@ -62,15 +63,46 @@ struct Soft {
     converged: bool,
 }
 
+/// How a solve starts and when it may stop early, beyond the method's own
+/// definition (which the default follows exactly).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SolveOptions<'a> {
+    /// Initial correspondence, row-major `n x m` (e.g. the previous
+    /// frame's soft answer); scaled to sum 1, ignored unless non-negative
+    /// with a positive sum.
+    pub warm_start: Option<&'a [f64]>,
+    /// Stop once every row's best column has been unchanged for this many
+    /// iterations.
+    pub stop_when_stable: Option<usize>,
+}
+
 /// Runs `method` on `problem` and discretises its soft answer with the
 /// Hungarian algorithm.
 pub fn solve(method: Method, problem: &Problem, params: &Params) -> Result<Solution, MatchError> {
+    solve_with(method, problem, params, SolveOptions::default())
+}
+
+/// [`solve`] with a warm start and an early stop.
+pub fn solve_with(
+    method: Method,
+    problem: &Problem,
+    params: &Params,
+    options: SolveOptions<'_>,
+) -> Result<Solution, MatchError> {
     params.validate()?;
+    if let Some(w) = options.warm_start
+        && w.len() != problem.len()
+    {
+        return Err(MatchError::WarmStartShape {
+            len: w.len(),
+            expected: problem.len(),
+        });
+    }
     let soft = match method {
         Method::Appearance => appearance_only::solve(problem),
-        Method::Sm => sm::solve(problem, &params.sm),
-        Method::Rrwm => rrwm::solve(problem, params),
-        Method::Paper => paper::solve(problem, params),
+        Method::Sm => sm::solve(problem, &params.sm, options),
+        Method::Rrwm => rrwm::solve(problem, params, options),
+        Method::Paper => paper::solve(problem, params, options),
     };
     let assignment = hungarian_max(&soft.x, problem.n, problem.m)?.row_to_col;
     Ok(Solution {

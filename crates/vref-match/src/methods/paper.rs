@@ -1,13 +1,14 @@
-use super::Soft;
-use super::vector::{amplify, max, normalize_sum, squared_distance, sum, uniform};
+use super::stability::{Stability, start};
+use super::vector::{amplify, max, normalize_sum, squared_distance, sum};
+use super::{Soft, SolveOptions};
 use crate::{Params, Problem, sinkhorn_slack};
 
 /// The paper's Algorithm 1, appearance-guided reweighted jumps, with the
 /// choices of ALGORITHMS.md: both terms of w L1-normalised.
-pub(super) fn solve(problem: &Problem, params: &Params) -> Soft {
+pub(super) fn solve(problem: &Problem, params: &Params, options: SolveOptions<'_>) -> Soft {
     let pp = &params.paper;
     let (n, m, len) = (problem.n, problem.m, problem.len());
-    let max_row_sum = max(&problem.spatial.row_sums());
+    let max_row_sum = problem.spatial.max_row_sum();
 
     // a+ = max(a, 0); q = a+ / max(a+), used L1-normalised in w (Eq. 6).
     let a_plus: Vec<f64> = problem.appearance.iter().map(|&a| a.max(0.0)).collect();
@@ -18,8 +19,9 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Soft {
     };
     normalize_sum(&mut q);
 
-    let mut x = uniform(len);
+    let mut x = start(options.warm_start, len);
     let mut x_prev = x.clone();
+    let mut stability = Stability::new(n, m, options.stop_when_stable);
     let mut z = vec![0.0; len];
     let mut walk = vec![0.0; len];
     let mut next = vec![0.0; len];
@@ -66,7 +68,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Soft {
         let change = squared_distance(&next, &x).min(squared_distance(&next, &x_prev));
         std::mem::swap(&mut x_prev, &mut x);
         x.copy_from_slice(&next);
-        if change < pp.tol {
+        if change < pp.tol || stability.settled(&x) {
             soft.converged = true;
             break;
         }

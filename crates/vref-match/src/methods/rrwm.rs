@@ -1,17 +1,19 @@
-use super::Soft;
-use super::vector::{amplify, max, normalize_sum, squared_distance, uniform};
+use super::stability::{Stability, start};
+use super::vector::{amplify, normalize_sum, squared_distance};
+use super::{Soft, SolveOptions};
 use crate::{Params, Problem, sinkhorn_slack};
 
 /// Reweighted random walks with the semantics of the authors' RRWM.m:
 /// walk on `P = S / max column sum`, jump to the Sinkhorn-normalised
 /// amplification of the current walk distribution.
-pub(super) fn solve(problem: &Problem, params: &Params) -> Soft {
+pub(super) fn solve(problem: &Problem, params: &Params, options: SolveOptions<'_>) -> Soft {
     let rp = &params.rrwm;
     let (n, m, len) = (problem.n, problem.m, problem.len());
-    let max_degree = max(&problem.spatial.row_sums());
-    let mut x = uniform(len);
+    let max_degree = problem.spatial.max_row_sum();
+    let mut x = start(options.warm_start, len);
     let mut x_prev = x.clone();
-    let mut jump = uniform(len);
+    let mut jump = x.clone();
+    let mut stability = Stability::new(n, m, options.stop_when_stable);
     let mut mix = vec![0.0; len];
     let mut y = vec![0.0; len];
     let mut soft = Soft {
@@ -44,7 +46,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Soft {
         let change = squared_distance(&y, &x).min(squared_distance(&y, &x_prev));
         std::mem::swap(&mut x_prev, &mut x);
         x.copy_from_slice(&y);
-        if change < rp.tol {
+        if change < rp.tol || stability.settled(&x) {
             soft.converged = true;
             break;
         }

@@ -1,0 +1,286 @@
+//! The matcher's engine: state kept by track id across snapshots, so that
+//! a snapshot that changes k objects recomputes only their rows and
+//! columns of the appearance affinity, the distance matrices and the
+//! spatial kernel values, and (live tier) the next solve starts from the
+//! last solution.
+
+mod view;
+
+use std::collections::HashMap;
+
+use vref_scene::{SceneGraph, Side};
+
+pub use view::Change;
+use view::View;
+
+use crate::{
+    MatchError, Method, PairAffinity, Params, Problem, Solution, SolveOptions, SpatialAffinity,
+    SpatialTerm, Tier, candidate_pairs, solve_with,
+};
+
+/// The last solve, with the track ids its rows and columns stood for.
+#[derive(Debug, Clone)]
+struct Solved {
+    human_ids: Vec<u64>,
+    robot_ids: Vec<u64>,
+    solution: Solution,
+}
+
+/// Incremental matching of two views that change over time.
+#[derive(Debug, Clone)]
+pub struct Engine {
+    method: Method,
+    tier: Tier,
+    params: Params,
+    human: View,
+    robot: View,
+    /// `n x m` cosine affinities of the current objects (ALGORITHMS.md
+    /// Eq. 1); 1 where either view has no features.
+    appearance: Vec<f64>,
+    /// The spatial term of the last solve and, for each current object,
+    /// its index in that term if unchanged since.
+    spatial: Option<SpatialTerm>,
+    human_in_spatial: Vec<Option<usize>>,
+    robot_in_spatial: Vec<Option<usize>>,
+    solved: Option<Solved>,
+    /// Whether the views changed since the last solve.
+    dirty: bool,
+}
+
+impl Engine {
+    pub fn new(method: Method, tier: Tier, params: Params) -> Result<Self, MatchError> {
+        params.validate()?;
+        Ok(Self {
+            method,
+            tier,
+            params,
+            human: View::default(),
+            robot: View::default(),
+            appearance: Vec::new(),
+            spatial: None,
+            human_in_spatial: Vec::new(),
+            robot_in_spatial: Vec::new(),
+            solved: None,
+            dirty: true,
+        })
+    }
+
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    pub fn tier(&self) -> Tier {
+        self.tier
+    }
+
+    /// Takes `side`'s new snapshot. Graphs with an edge list are refused:
+    /// snapshots from the feeds are fully connected.
+    pub fn update(&mut self, side: Side, graph: &SceneGraph) -> Result<Change, MatchError> {
+        if graph.edges().is_some() {
+            return Err(MatchError::EdgeListInEngine);
+        }
+        let other = match side {
+            Side::Human => &self.robot,
+            Side::Robot => &self.human,
+        };
+        let (mine, theirs) = (
+            graph.feature_dim(),
+            other.objects.first().map_or(0, |o| o.feature.len()),
+        );
+        if mine != 0 && theirs != 0 && mine != theirs {
+            let (human, robot) = match side {
+                Side::Human => (mine, theirs),
+                Side::Robot => (theirs, mine),
+            };
+            return Err(MatchError::FeatureDimsDiffer { human, robot });
+        }
+        let had_features = (self.human.has_features(), self.robot.has_features());
+        let (old_n, old_m) = (self.human.len(), self.robot.len());
+        let (unchanged, change) = match side {
+            Side::Human => self.human.update(graph),
+            Side::Robot => self.robot.update(graph),
+        };
+        let features_switched =
+            had_features != (self.human.has_features(), self.robot.has_features());
+        let identity = |count: usize| (0..count).map(Some).collect::<Vec<_>>();
+        let (human_old, robot_old) = match side {
+            Side::Human => (unchanged, identity(self.robot.len())),
+            Side::Robot => (identity(self.human.len()), unchanged),
+        };
+        self.update_appearance(&human_old, &robot_old, old_m, features_switched);
+        let compose = |since: &[Option<usize>], old: &[Option<usize>], had: usize| {
+            old.iter()
+                .map(|o| o.and_then(|k| if since.len() == had { since[k] } else { None }))
+                .collect::<Vec<_>>()
+        };
+        self.human_in_spatial = compose(&self.human_in_spatial, &human_old, old_n);
+        self.robot_in_spatial = compose(&self.robot_in_spatial, &robot_old, old_m);
+        self.dirty |= change.any() || self.solved.is_none();
+        Ok(change)
+    }
+
+    /// Recomputes the appearance entries of changed objects and copies the
+    /// others (`*_old[k]`: the object's index before, if unchanged).
+    fn update_appearance(
+        &mut self,
+        human_old: &[Option<usize>],
+        robot_old: &[Option<usize>],
+        old_m: usize,
+        recompute_all: bool,
+    ) {
+        let (n, m) = (self.human.len(), self.robot.len());
+        let no_features = !(self.human.has_features() && self.robot.has_features());
+        let mut appearance = vec![0.0; n * m];
+        for (i, h) in self.human.objects.iter().enumerate() {
+            for (a, r) in self.robot.objects.iter().enumerate() {
+                appearance[i * m + a] = match (human_old[i], robot_old[a]) {
+                    (Some(oi), Some(oa)) if !recompute_all => self.appearance[oi * old_m + oa],
+                    _ if no_features || h.norm == 0.0 || r.norm == 0.0 => 1.0,
+                    _ => {
+                        let dot: f64 = h
+                            .feature
+                            .iter()
+                            .zip(&r.feature)
+                            .map(|(&u, &v)| f64::from(u) * f64::from(v))
+                            .sum();
+                        dot / (h.norm * r.norm)
+                    }
+                };
+            }
+        }
+        self.appearance = appearance;
+    }
+
+    /// Whether a solve would give something new.
+    pub fn is_dirty(&self) -> bool {
+        self.dirty
+    }
+
+    /// Solves if the views changed since the last solve, and returns the
+    /// solution with the track ids of its rows and columns.
+    pub fn solve(&mut self) -> Result<(&Solution, &[u64], &[u64]), MatchError> {
+        if self.dirty || self.solved.is_none() {
+            self.resolve()?;
+        }
+        match &self.solved {
+            Some(s) => Ok((&s.solution, &s.human_ids, &s.robot_ids)),
+            None => Err(MatchError::EmptyGraph { side: "human" }),
+        }
+    }
+
+    fn resolve(&mut self) -> Result<(), MatchError> {
+        let (n, m) = (self.human.len(), self.robot.len());
+        if n == 0 {
+            return Err(MatchError::EmptyGraph { side: "human" });
+        }
+        if m == 0 {
+            return Err(MatchError::EmptyGraph { side: "robot" });
+        }
+        let problem = match self.tier {
+            Tier::Exact => Problem {
+                n,
+                m,
+                appearance: self.appearance.clone(),
+                spatial: SpatialTerm::Edges(self.exact_spatial()),
+            },
+            Tier::Live => Problem::pruned(n, m, self.appearance.clone(), self.live_spatial()),
+        };
+        let warm = match self.tier {
+            Tier::Exact => None,
+            Tier::Live => self.warm_start(),
+        };
+        let options = SolveOptions {
+            warm_start: warm.as_deref(),
+            stop_when_stable: (self.tier == Tier::Live)
+                .then_some(self.params.live.stable_iterations),
+        };
+        let solution = solve_with(self.method, &problem, &self.params, options)?;
+        self.spatial = Some(problem.spatial);
+        self.human_in_spatial = (0..n).map(Some).collect();
+        self.robot_in_spatial = (0..m).map(Some).collect();
+        self.solved = Some(Solved {
+            human_ids: self.human.objects.iter().map(|o| o.id).collect(),
+            robot_ids: self.robot.objects.iter().map(|o| o.id).collect(),
+            solution,
+        });
+        self.dirty = false;
+        Ok(())
+    }
+
+    /// The exact tier's S, reusing the kernel values of unchanged objects.
+    fn exact_spatial(&self) -> SpatialAffinity {
+        let (h, r) = (&self.human, &self.robot);
+        match &self.spatial {
+            Some(SpatialTerm::Edges(previous)) if self.method != Method::Appearance => {
+                SpatialAffinity::updated(
+                    previous,
+                    &self.human_in_spatial,
+                    &self.robot_in_spatial,
+                    &h.distances,
+                    &r.distances,
+                )
+            }
+            _ => SpatialAffinity::from_distances(
+                h.len(),
+                r.len(),
+                &h.distances,
+                &r.distances,
+                self.params.beta,
+            ),
+        }
+    }
+
+    /// The live tier's S on today's candidate pairs, reusing the kernel
+    /// values of unchanged objects.
+    fn live_spatial(&mut self) -> PairAffinity {
+        let (h, r) = (&self.human, &self.robot);
+        let (n, m) = (h.len(), r.len());
+        let pairs = candidate_pairs(&self.appearance, n, m, &self.params.live);
+        match self.spatial.take() {
+            Some(SpatialTerm::Pairs(previous)) => PairAffinity::updated(
+                previous,
+                &self.human_in_spatial,
+                &self.robot_in_spatial,
+                n,
+                m,
+                pairs,
+                &h.distances,
+                &r.distances,
+                self.params.beta,
+            ),
+            _ => PairAffinity::new(n, m, pairs, &h.distances, &r.distances, self.params.beta),
+        }
+    }
+
+    /// The last soft answer carried over by track id; pairs it did not
+    /// have start at its mean.
+    fn warm_start(&self) -> Option<Vec<f64>> {
+        let last = self.solved.as_ref()?;
+        let lm = last.robot_ids.len();
+        let rows: HashMap<u64, usize> = last
+            .human_ids
+            .iter()
+            .enumerate()
+            .map(|(k, &id)| (id, k))
+            .collect();
+        let cols: HashMap<u64, usize> = last
+            .robot_ids
+            .iter()
+            .enumerate()
+            .map(|(k, &id)| (id, k))
+            .collect();
+        let soft = &last.solution.soft;
+        let mean = soft.iter().sum::<f64>() / soft.len().max(1) as f64;
+        let mut warm = Vec::with_capacity(self.human.len() * self.robot.len());
+        for h in &self.human.objects {
+            let row = rows.get(&h.id);
+            for r in &self.robot.objects {
+                warm.push(match (row, cols.get(&r.id)) {
+                    (Some(&i), Some(&a)) => soft[i * lm + a],
+                    _ => mean,
+                });
+            }
+        }
+        Some(warm)
+    }
+}

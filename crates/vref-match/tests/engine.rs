@@ -1,0 +1,196 @@
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+//! The incremental engine: answers equal to a fresh solve (exact tier),
+//! updates by track id, and the live tier's shortcuts.
+
+use vref_match::bench::RigidScene;
+use vref_match::engine::{Change, Engine};
+use vref_match::{MatchError, Method, Params, Problem, Solution, Tier, solve};
+use vref_scene::{Limits, SceneGraph, SceneObject, Side};
+
+fn fresh(human: &SceneGraph, robot: &SceneGraph, method: Method) -> Solution {
+    let problem = Problem::new(human, robot, Params::default().beta).unwrap();
+    solve(method, &problem, &Params::default()).unwrap()
+}
+
+fn subset(graph: &SceneGraph, keep: impl Fn(usize) -> bool, reverse: bool) -> SceneGraph {
+    let mut objects: Vec<SceneObject> = graph
+        .objects()
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| keep(*k))
+        .map(|(_, o)| o.clone())
+        .collect();
+    if reverse {
+        objects.reverse();
+    }
+    SceneGraph::new(objects, None, &Limits::default()).unwrap()
+}
+
+fn assert_same(engine: &mut Engine, human: &SceneGraph, robot: &SceneGraph, method: Method) {
+    let expected = fresh(human, robot, method);
+    let (got, human_ids, robot_ids) = engine.solve().unwrap();
+    assert_eq!(
+        human_ids,
+        human.objects().iter().map(|o| o.id).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        robot_ids,
+        robot.objects().iter().map(|o| o.id).collect::<Vec<_>>()
+    );
+    assert_eq!(got.assignment, expected.assignment);
+    assert_eq!(got.iterations, expected.iterations);
+    let worst = got
+        .soft
+        .iter()
+        .zip(&expected.soft)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "soft answers differ by {worst}");
+}
+
+#[test]
+fn exact_engine_equals_a_fresh_solve_after_every_kind_of_update() {
+    for method in [Method::Paper, Method::Rrwm, Method::Sm, Method::Appearance] {
+        let scene = RigidScene::new(12, 7).unwrap();
+        let mut engine = Engine::new(method, Tier::Exact, Params::default()).unwrap();
+        engine.update(Side::Human, &scene.human).unwrap();
+        engine.update(Side::Robot, &scene.robot).unwrap();
+        assert_same(&mut engine, &scene.human, &scene.robot, method);
+
+        // One object moved.
+        let moved = scene.moved(4, 11).unwrap();
+        let change = engine.update(Side::Human, &moved.human).unwrap();
+        assert_eq!((change.changed, change.kept), (1, 11));
+        assert_same(&mut engine, &moved.human, &scene.robot, method);
+
+        // Objects removed on one side, the other side reordered, between
+        // two solves.
+        let fewer = subset(&moved.human, |k| k % 5 != 2, false);
+        let reordered = subset(&scene.robot, |_| true, true);
+        engine.update(Side::Human, &fewer).unwrap();
+        let change = engine.update(Side::Robot, &reordered).unwrap();
+        assert_eq!(
+            change,
+            Change {
+                added: 0,
+                removed: 0,
+                changed: 0,
+                kept: 12
+            }
+        );
+        assert_same(&mut engine, &fewer, &reordered, method);
+
+        // The removed objects come back.
+        engine.update(Side::Human, &moved.human).unwrap();
+        assert_same(&mut engine, &moved.human, &reordered, method);
+    }
+}
+
+#[test]
+fn updates_are_counted_by_track_id() {
+    let scene = RigidScene::new(8, 3).unwrap();
+    let mut engine = Engine::new(Method::Paper, Tier::Live, Params::default()).unwrap();
+    let first = engine.update(Side::Robot, &scene.robot).unwrap();
+    assert_eq!(
+        first,
+        Change {
+            added: 8,
+            removed: 0,
+            changed: 0,
+            kept: 0
+        }
+    );
+    let same = engine.update(Side::Robot, &scene.robot).unwrap();
+    assert!(!same.any());
+    let fewer = subset(&scene.robot, |k| k < 5, false);
+    let change = engine.update(Side::Robot, &fewer).unwrap();
+    assert_eq!(
+        change,
+        Change {
+            added: 0,
+            removed: 3,
+            changed: 0,
+            kept: 5
+        }
+    );
+}
+
+#[test]
+fn a_solve_is_reused_until_a_view_changes() {
+    let scene = RigidScene::new(10, 2).unwrap();
+    let mut engine = Engine::new(Method::Paper, Tier::Live, Params::default()).unwrap();
+    assert!(matches!(engine.solve(), Err(MatchError::EmptyGraph { .. })));
+    engine.update(Side::Human, &scene.human).unwrap();
+    engine.update(Side::Robot, &scene.robot).unwrap();
+    assert!(engine.is_dirty());
+    engine.solve().unwrap();
+    assert!(!engine.is_dirty());
+    engine.update(Side::Robot, &scene.robot).unwrap();
+    assert!(!engine.is_dirty(), "an identical snapshot changes nothing");
+    engine
+        .update(Side::Human, &scene.moved(1, 1).unwrap().human)
+        .unwrap();
+    assert!(engine.is_dirty());
+}
+
+#[test]
+fn bad_graphs_are_refused_and_change_nothing() {
+    let scene = RigidScene::new(6, 1).unwrap();
+    let mut engine = Engine::new(Method::Paper, Tier::Exact, Params::default()).unwrap();
+    engine.update(Side::Human, &scene.human).unwrap();
+    engine.update(Side::Robot, &scene.robot).unwrap();
+    let before = engine.solve().unwrap().0.clone();
+
+    let objects = scene.robot.objects().to_vec();
+    let ids = [objects[0].id, objects[1].id];
+    let with_edges = SceneGraph::new(objects, Some(vec![ids]), &Limits::default()).unwrap();
+    assert_eq!(
+        engine.update(Side::Robot, &with_edges),
+        Err(MatchError::EdgeListInEngine)
+    );
+    let short: Vec<SceneObject> = scene
+        .robot
+        .objects()
+        .iter()
+        .map(|o| {
+            SceneObject::new(
+                o.id,
+                [o.position.x, o.position.y, o.position.z],
+                vec![1.0; 3],
+            )
+        })
+        .collect();
+    let short = SceneGraph::new(short, None, &Limits::default()).unwrap();
+    assert!(matches!(
+        engine.update(Side::Robot, &short),
+        Err(MatchError::FeatureDimsDiffer { .. })
+    ));
+    assert!(!engine.is_dirty());
+    assert_eq!(engine.solve().unwrap().0, &before);
+}
+
+#[test]
+fn live_tier_finds_the_rigid_correspondence() {
+    for objects in [16, 40] {
+        let scene = RigidScene::new(objects, 5).unwrap();
+        let exact = fresh(&scene.human, &scene.robot, Method::Paper);
+        let mut engine = Engine::new(Method::Paper, Tier::Live, Params::default()).unwrap();
+        engine.update(Side::Human, &scene.human).unwrap();
+        engine.update(Side::Robot, &scene.robot).unwrap();
+        let live = engine.solve().unwrap().0.clone();
+        assert_eq!(live.assignment, exact.assignment, "{objects} objects");
+        assert!(live.iterations <= exact.iterations);
+        // Warm start after a move: the answer for the other objects holds.
+        let moved = scene.moved(0, 3).unwrap();
+        engine.update(Side::Human, &moved.human).unwrap();
+        let (after, _, _) = engine.solve().unwrap();
+        let same = after
+            .assignment
+            .iter()
+            .zip(&live.assignment)
+            .filter(|(a, b)| a == b)
+            .count();
+        assert!(same >= objects - 2, "{same} of {objects} kept");
+    }
+}
