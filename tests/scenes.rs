@@ -113,3 +113,78 @@ fn help_documents_every_flag() {
         assert!(text.contains(flag), "--help lacks {flag}:\n{text}");
     }
 }
+
+#[test]
+fn rigid_scenes_have_exactly_the_asked_size_and_every_partner() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = vref(
+        &[
+            "scenes",
+            "--preset",
+            "rigid",
+            "--objects",
+            "20",
+            "--count",
+            "2",
+            "--out",
+            "r.jsonl",
+        ],
+        dir.path(),
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let text = std::fs::read_to_string(dir.path().join("r.jsonl")).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 2);
+    for line in &lines {
+        assert_eq!(line["human"]["objects"].as_array().unwrap().len(), 20);
+        assert_eq!(line["robot"]["objects"].as_array().unwrap().len(), 20);
+        assert_eq!(line["ground_truth"].as_array().unwrap().len(), 20);
+    }
+    // And the live matcher tier finds them all.
+    let eval = vref(
+        &[
+            "eval",
+            "--dataset",
+            "r.jsonl",
+            "--method",
+            "paper",
+            "--tier",
+            "live",
+            "--json",
+        ],
+        dir.path(),
+    );
+    assert!(eval.status.success(), "{}", stderr(&eval));
+    let report: serde_json::Value = serde_json::from_slice(&eval.stdout).unwrap();
+    assert_eq!(report["tier"], "live");
+    assert_eq!(report["accuracy"], 1.0);
+
+    for bad in [
+        &["scenes", "--preset", "rigid", "--count", "2"][..],
+        &[
+            "scenes",
+            "--preset",
+            "moi",
+            "--objects",
+            "5",
+            "--count",
+            "2",
+        ][..],
+        &[
+            "scenes",
+            "--preset",
+            "rigid",
+            "--objects",
+            "1",
+            "--count",
+            "2",
+        ][..],
+    ] {
+        let run = vref(bad, dir.path());
+        assert_eq!(run.status.code(), Some(2), "{bad:?}: {}", stderr(&run));
+        assert!(stderr(&run).contains("--objects") || stderr(&run).contains("objects"));
+    }
+}

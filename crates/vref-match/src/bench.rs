@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use vref_scene::{GraphError, Limits, SceneGraph, SceneObject, Side};
+use vref_scene::{GraphError, Limits, PairError, SceneGraph, SceneObject, ScenePair, Side};
 
 use crate::engine::Engine;
 use crate::{MatchError, Method, Params, Tier};
@@ -32,6 +32,8 @@ pub enum BenchError {
     NoRepeats,
     #[error("building a synthetic scene: {0}")]
     Scene(#[from] GraphError),
+    #[error("building a synthetic scene pair: {0}")]
+    Pair(#[from] PairError),
     #[error(transparent)]
     Match(#[from] MatchError),
 }
@@ -78,6 +80,8 @@ pub struct RigidScene {
     pub robot: SceneGraph,
     positions: Vec<[f64; 3]>,
     features: Vec<Vec<f32>>,
+    /// Robot object `r` is human object `order[r]`.
+    order: Vec<usize>,
 }
 
 impl RigidScene {
@@ -122,7 +126,25 @@ impl RigidScene {
             robot,
             positions,
             features,
+            order,
         })
+    }
+
+    /// The scene as a dataset scene pair, with its ground truth (every
+    /// object is seen by both views; ids are indices in each view).
+    pub fn pair(&self, name: String) -> Result<ScenePair, BenchError> {
+        let truth = self
+            .order
+            .iter()
+            .enumerate()
+            .map(|(r, &h)| (h as u64, r as u64))
+            .collect();
+        Ok(ScenePair::new(
+            name,
+            self.robot.clone(),
+            self.human.clone(),
+            truth,
+        )?)
     }
 
     /// The scene after human object `index % n` moved `MOVE_STEP` along a
@@ -147,6 +169,7 @@ impl RigidScene {
             robot: self.robot.clone(),
             positions,
             features: self.features.clone(),
+            order: self.order.clone(),
         })
     }
 }
@@ -330,6 +353,20 @@ mod tests {
         }
         let again = RigidScene::new(12, 3).unwrap();
         assert_eq!(scene.robot, again.robot);
+    }
+
+    #[test]
+    fn the_pair_carries_the_true_correspondence() {
+        let scene = RigidScene::new(9, 4).unwrap();
+        let pair = scene.pair("rigid".to_owned()).unwrap();
+        assert_eq!(pair.ground_truth.len(), 9);
+        for &(h, r) in &pair.ground_truth {
+            let hf = &pair.human.objects()[h as usize].feature;
+            let rf = &pair.robot.objects()[r as usize].feature;
+            let gap: f32 =
+                hf.iter().zip(rf).map(|(a, b)| (a - b).abs()).sum::<f32>() / hf.len() as f32;
+            assert!(gap < 0.2, "human {h} and robot {r} differ by {gap}");
+        }
     }
 
     #[test]

@@ -126,6 +126,9 @@ fn the_live_tier_is_no_less_accurate_than_the_exact_tier() {
         let (exact, live) = (accuracy(Tier::Exact), accuracy(Tier::Live));
         // Measured on the README's 30-scene sets: live is 0.03 to 0.10
         // above exact (pruning by appearance gates the spatial term).
-        assert!(live >= exact - 0.01, "{preset:?}: live {live:.3}, exact {exact:.3}");
+        assert!(
+            live >= exact - 0.01,
+            "{preset:?}: live {live:.3}, exact {exact:.3}"
+        );
     }
 }

@@ -144,10 +144,15 @@ pub struct VizArgs {
 #[derive(Debug, Args)]
 pub struct ScenesArgs {
     /// Scene family: moi (table top, look-alike objects close together,
-    /// cameras under 1 m away) or mrc (floor area seen from 3-5 m, mostly
-    /// identical cartons).
+    /// cameras under 1 m away), mrc (floor area seen from 3-5 m, mostly
+    /// identical cartons), or rigid (the scenes `vref bench solver` times:
+    /// exactly --objects per view, all seen by both, 48-d features; scene k
+    /// is the benchmark's scene of seed S + k).
     #[arg(long, value_name = "NAME")]
     pub preset: String,
+    /// Objects per view of --preset rigid.
+    #[arg(long, value_name = "N")]
+    pub objects: Option<usize>,
     /// Number of scene pairs, at least 1. Scene k is the same whatever the
     /// count, so a shorter run is a prefix of a longer one.
     #[arg(long, value_name = "N")]

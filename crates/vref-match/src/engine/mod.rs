@@ -43,6 +43,9 @@ pub struct Engine {
     human_in_spatial: Vec<Option<usize>>,
     robot_in_spatial: Vec<Option<usize>>,
     solved: Option<Solved>,
+    /// The appearance affinity the live tier's current candidate pairs were
+    /// chosen from: while it is unchanged (objects only moved), so are they.
+    candidates_from: Vec<f64>,
     /// Whether the views changed since the last solve.
     dirty: bool,
 }
@@ -61,6 +64,7 @@ impl Engine {
             human_in_spatial: Vec::new(),
             robot_in_spatial: Vec::new(),
             solved: None,
+            candidates_from: Vec::new(),
             dirty: true,
         })
     }
@@ -235,8 +239,19 @@ impl Engine {
     fn live_spatial(&mut self) -> PairAffinity {
         let (h, r) = (&self.human, &self.robot);
         let (n, m) = (h.len(), r.len());
-        let pairs = candidate_pairs(&self.appearance, n, m, &self.params.live);
-        match self.spatial.take() {
+        let previous = self.spatial.take();
+        let pairs = match &previous {
+            Some(SpatialTerm::Pairs(p))
+                if p.shape() == (n, m) && self.candidates_from == self.appearance =>
+            {
+                p.pairs().to_vec()
+            }
+            _ => {
+                self.candidates_from.clone_from(&self.appearance);
+                candidate_pairs(&self.appearance, n, m, &self.params.live)
+            }
+        };
+        match previous {
             Some(SpatialTerm::Pairs(previous)) => PairAffinity::updated(
                 previous,
                 &self.human_in_spatial,

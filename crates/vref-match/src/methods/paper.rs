@@ -21,7 +21,7 @@ pub(super) fn solve(problem: &Problem, params: &Params, options: SolveOptions<'_
 
     let mut x = start(options.warm_start, len);
     let mut x_prev = x.clone();
-    let mut stability = Stability::new(n, m, options.stop_when_stable);
+    let mut stability = Stability::new(n, m, options.stop_when_stable, options.warm_start);
     let mut z = vec![0.0; len];
     let mut walk = vec![0.0; len];
     let mut next = vec![0.0; len];

@@ -15,7 +15,12 @@ pub(super) fn solve(problem: &Problem, params: &SmParams, options: SolveOptions<
         }
         None => vec![1.0 / (len as f64).sqrt(); len],
     };
-    let mut stability = Stability::new(problem.n, problem.m, options.stop_when_stable);
+    let mut stability = Stability::new(
+        problem.n,
+        problem.m,
+        options.stop_when_stable,
+        options.warm_start,
+    );
     let mut next = vec![0.0; len];
     let mut soft = Soft {
         x: Vec::new(),

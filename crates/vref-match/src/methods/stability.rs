@@ -9,8 +9,10 @@ pub(super) struct Stability {
 }
 
 impl Stability {
-    pub(super) fn new(n: usize, m: usize, needed: Option<usize>) -> Self {
-        Self {
+    /// `warm`: the warm start, whose assignment counts as the one before
+    /// the first iteration (a cold start has none).
+    pub(super) fn new(n: usize, m: usize, needed: Option<usize>, warm: Option<&[f64]>) -> Self {
+        let mut stability = Self {
             needed,
             m,
             best: if needed.is_some() {
@@ -19,7 +21,12 @@ impl Stability {
                 Vec::new()
             },
             stable: 0,
+        };
+        if let Some(w) = warm.filter(|w| w.len() == n * m) {
+            stability.settled(w);
+            stability.stable = 0;
         }
+        stability
     }
 
     /// Whether every row's best column in `x` has now been the same for the
