@@ -63,7 +63,11 @@ impl Evaluation {
                     },
                 ),
             };
-            let solution = solve_with(method, &problem, &self.params, options)?;
+            let params = match self.tier {
+                Tier::Exact => self.params,
+                Tier::Live => self.params.for_live(),
+            };
+            let solution = solve_with(method, &problem, &params, options)?;
             self.solve_times[k] += start.elapsed();
             let predicted = solution.id_pairs(&pair.human, &pair.robot);
             self.scores[k].push(score_scene(&human_ids, &predicted, &pair.ground_truth));

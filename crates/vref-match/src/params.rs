@@ -72,6 +72,10 @@ pub struct LiveParams {
     /// Stop once every row's best partner has not changed for this many
     /// iterations.
     pub stable_iterations: usize,
+    /// Most Sinkhorn rounds per normalisation. On the pruned pairs the
+    /// support is sparse and Sinkhorn may creep towards its tolerance for
+    /// hundreds of rounds (RRWM's sharp jumps especially).
+    pub sinkhorn_max_rounds: usize,
 }
 
 impl Default for LiveParams {
@@ -81,6 +85,7 @@ impl Default for LiveParams {
             candidates_max: 10,
             appearance_margin: 0.2,
             stable_iterations: 3,
+            sinkhorn_max_rounds: 30,
         }
     }
 }
@@ -132,6 +137,15 @@ impl Default for PaperParams {
 }
 
 impl Params {
+    /// The constants the live tier runs with: these, with Sinkhorn capped
+    /// at `live.sinkhorn_max_rounds`.
+    pub fn for_live(&self) -> Params {
+        Params {
+            sinkhorn_max_rounds: self.sinkhorn_max_rounds.min(self.live.sinkhorn_max_rounds),
+            ..*self
+        }
+    }
+
     /// Refuses values the methods are not defined for.
     pub fn validate(&self) -> Result<(), MatchError> {
         positive("beta", self.beta)?;
@@ -173,6 +187,7 @@ impl Params {
             ("live.candidates_min", self.live.candidates_min),
             ("live.candidates_max", self.live.candidates_max),
             ("live.stable_iterations", self.live.stable_iterations),
+            ("live.sinkhorn_max_rounds", self.live.sinkhorn_max_rounds),
         ] {
             if count == 0 {
                 return Err(MatchError::BadParameter {

@@ -198,7 +198,11 @@ impl Engine {
             stop_when_stable: (self.tier == Tier::Live)
                 .then_some(self.params.live.stable_iterations),
         };
-        let solution = solve_with(self.method, &problem, &self.params, options)?;
+        let params = match self.tier {
+            Tier::Exact => self.params,
+            Tier::Live => self.params.for_live(),
+        };
+        let solution = solve_with(self.method, &problem, &params, options)?;
         self.spatial = Some(problem.spatial);
         self.human_in_spatial = (0..n).map(Some).collect();
         self.robot_in_spatial = (0..m).map(Some).collect();
