@@ -40,9 +40,13 @@ impl ReferenceState {
             .human
             .as_ref()
             .map_or(0, |h| h.snapshot.graph.objects()[human_index].id);
-        if self.refresh().is_err() {
-            answer.status = AnswerStatus::NotReady as u32;
-            return answer;
+        match self.refresh() {
+            Ok(true) => answer.flags |= ReferenceAnswer::FLAG_SOLVED,
+            Ok(false) => {}
+            Err(_) => {
+                answer.status = AnswerStatus::NotReady as u32;
+                return answer;
+            }
         }
         self.fill_match(human_index, &mut answer);
         self.mark_stale(answer, ages)
@@ -214,7 +218,7 @@ fn blank(request_id: u64) -> ReferenceAnswer {
         alternative_count: 0,
         alternatives: [Alternative::default(); MAX_ALTERNATIVES],
         schema_version: SCHEMA_VERSION,
-        reserved: 0,
+        flags: 0,
     }
 }
 

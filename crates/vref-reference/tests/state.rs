@@ -299,3 +299,30 @@ fn unknown_method_is_refused() {
     };
     assert!(ReferenceState::new(&settings, Params::default(), Limits::default()).is_err());
 }
+
+#[test]
+fn answers_say_whether_they_needed_a_solve() {
+    let now = Instant::now();
+    let mut s = ready(now);
+    let q = query(QueryKind::HumanObject, 1, [0.0; 3], [0.0; 3]);
+    let first = s.answer(&q, now);
+    assert_eq!(first.status, AnswerStatus::Ok as u32);
+    assert!(first.solved(), "the first answer solves");
+    assert_eq!(first.flags, ReferenceAnswer::FLAG_SOLVED);
+    let cached = s.answer(&q, now);
+    assert!(!cached.solved(), "the same snapshots: cached");
+    assert_eq!(cached.flags, 0);
+    s.accept_snapshot(
+        Side::Human,
+        &header(Side::Human, 2, 2, 4),
+        &entries(&HUMAN_IDS, 0.0),
+        now,
+    )
+    .unwrap();
+    assert!(s.answer(&q, now).solved(), "a new snapshot needs a solve");
+    assert!(!s.answer(&q, now).solved());
+    let bad = s.answer(&query(QueryKind::HumanObject, 99, [0.0; 3], [0.0; 3]), now);
+    assert_eq!(bad.status, AnswerStatus::BadRequest as u32);
+    assert!(!bad.solved());
+    assert_eq!(s.solves(), 2);
+}

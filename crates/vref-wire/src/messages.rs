@@ -155,7 +155,9 @@ pub struct ReferenceAnswer {
     pub alternative_count: u32,
     pub alternatives: [Alternative; MAX_ALTERNATIVES],
     pub schema_version: u32,
-    pub reserved: u32,
+    /// Bits about how the answer was made: [`ReferenceAnswer::FLAG_SOLVED`].
+    /// Unknown bits are 0 and readers ignore them.
+    pub flags: u32,
 }
 
 impl AnswerStatus {
@@ -186,6 +188,16 @@ impl AnswerStatus {
 }
 
 impl ReferenceAnswer {
+    /// The matcher solved the latest pair of snapshots for this answer;
+    /// without it the answer came from the cached solution (or from no
+    /// solution at all, when the status says it could not match).
+    pub const FLAG_SOLVED: u32 = 1;
+
+    /// Whether [`Self::FLAG_SOLVED`] is set.
+    pub fn solved(&self) -> bool {
+        self.flags & Self::FLAG_SOLVED != 0
+    }
+
     /// The answer's status; an unknown code reads as `bad_request`.
     pub fn status(&self) -> AnswerStatus {
         AnswerStatus::from_code(self.status).unwrap_or(AnswerStatus::BadRequest)
