@@ -36,4 +36,4 @@ pub use feed::{Feed, Published};
 pub use publication::{Due, Publication, Ray, Target};
 pub use role::Role;
 pub use service::{FeedError, run_feed};
-pub use synthetic::synthetic_world;
+pub use synthetic::{synthetic_world, with_room_for};

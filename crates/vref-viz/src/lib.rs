@@ -15,7 +15,9 @@ mod quantize;
 
 pub use canvas::Size;
 pub use error::{RenderError, SceneLookupError};
-pub use line_plot::{line_plot, render_line_plot};
+pub use line_plot::{
+    Axes, Scale, line_plot, line_plot_scaled, render_line_plot, render_line_plot_scaled,
+};
 pub use lookup::find_scene;
 pub use match_picture::MatchPicture;
 pub use projection::{Projection, UnknownProjection};

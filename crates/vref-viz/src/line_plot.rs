@@ -23,6 +23,40 @@ const PALETTE: [RGBColor; 7] = [
     RGBColor(0, 0, 0),
 ];
 
+/// How an axis maps values to positions.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Scale {
+    #[default]
+    Linear,
+    /// Logarithmic: equal steps for equal factors; ticks at powers of
+    /// the base (2 for object counts, 10 for times). Values must be
+    /// positive.
+    Log(f64),
+}
+
+impl Scale {
+    fn to_axis(self, v: f64) -> f64 {
+        match self {
+            Scale::Linear => v,
+            Scale::Log(base) => v.ln() / base.ln(),
+        }
+    }
+
+    fn value_at(self, v: f64) -> f64 {
+        match self {
+            Scale::Linear => v,
+            Scale::Log(base) => base.powf(v),
+        }
+    }
+}
+
+/// The scales of both axes.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Axes {
+    pub x: Scale,
+    pub y: Scale,
+}
+
 /// Writes a line plot of `series` (name, points) to `out` as a PNG of
 /// [`LINE_PLOT_SIZE`]. The y axis spans 0 to 1 when every value lies
 /// there (accuracies, precisions), else the values' range.
@@ -37,6 +71,18 @@ pub fn line_plot<S: AsRef<str>>(
     canvas::write(out, &png)
 }
 
+/// [`line_plot`] with the axes' scales given, e.g. log-log for times
+/// against sizes.
+pub fn line_plot_scaled<S: AsRef<str>>(
+    (title, x_label, y_label): (&str, &str, &str),
+    series: &[(S, Vec<(f64, f64)>)],
+    axes: Axes,
+    out: &Path,
+) -> Result<(), RenderError> {
+    let png = render_line_plot_scaled((title, x_label, y_label), series, axes, LINE_PLOT_SIZE)?;
+    canvas::write(out, &png)
+}
+
 /// [`line_plot`] as PNG bytes of any size.
 pub fn render_line_plot<S: AsRef<str>>(
     title: &str,
@@ -45,43 +91,70 @@ pub fn render_line_plot<S: AsRef<str>>(
     series: &[(S, Vec<(f64, f64)>)],
     size: Size,
 ) -> Result<Vec<u8>, RenderError> {
-    for (name, points) in series {
-        if let Some((index, &(x, y))) = points
-            .iter()
-            .enumerate()
-            .find(|(_, (x, y))| !(x.is_finite() && y.is_finite()))
-        {
-            return Err(RenderError::NonFinitePoint {
-                series: name.as_ref().to_owned(),
-                index,
-                x,
-                y,
-            });
-        }
-    }
-    canvas::render_png(size, |area| {
-        draw(area, size, (title, x_label, y_label), series)
-    })
+    render_line_plot_scaled((title, x_label, y_label), series, Axes::default(), size)
 }
 
-fn draw<S: AsRef<str>>(
+/// [`line_plot_scaled`] as PNG bytes of any size. A point that is not
+/// finite, or not positive on a log axis, is an error.
+pub fn render_line_plot_scaled<S: AsRef<str>>(
+    labels: (&str, &str, &str),
+    series: &[(S, Vec<(f64, f64)>)],
+    axes: Axes,
+    size: Size,
+) -> Result<Vec<u8>, RenderError> {
+    let mut placed: Vec<(&str, Vec<(f64, f64)>)> = Vec::with_capacity(series.len());
+    for (name, points) in series {
+        let mut moved = Vec::with_capacity(points.len());
+        for (index, &(x, y)) in points.iter().enumerate() {
+            let p = (axes.x.to_axis(x), axes.y.to_axis(y));
+            if !(x.is_finite() && y.is_finite() && p.0.is_finite() && p.1.is_finite()) {
+                return Err(RenderError::NonFinitePoint {
+                    series: name.as_ref().to_owned(),
+                    index,
+                    x,
+                    y,
+                });
+            }
+            moved.push(p);
+        }
+        placed.push((name.as_ref(), moved));
+    }
+    canvas::render_png(size, |area| draw(area, size, labels, &placed, axes))
+}
+
+/// Draws `series`, whose points are already in axis units (logarithms on
+/// a log axis).
+fn draw(
     area: &Area<'_>,
     size: Size,
     (title, x_label, y_label): (&str, &str, &str),
-    series: &[(S, Vec<(f64, f64)>)],
+    series: &[(&str, Vec<(f64, f64)>)],
+    axes: Axes,
 ) -> Result<(), RenderError> {
     let scale = (f64::from(size.width) / 900.0)
         .min(f64::from(size.height) / 560.0)
         .clamp(0.5, 4.0);
     let px = |v: f64| (v * scale).round() as u32;
     let points = || series.iter().flat_map(|(_, p)| p.iter().copied());
-    let x_range = padded(points().map(|p| p.0), 0.0);
-    let y_range = if points().all(|(_, y)| (0.0..=1.0).contains(&y)) {
-        // A little beyond [0, 1], so that a marker at 0 or 1 is not cut.
-        -0.02..1.02
-    } else {
-        padded(points().map(|p| p.1), 0.05)
+    let x_range = match axes.x {
+        Scale::Linear => padded(points().map(|p| p.0), 0.0),
+        Scale::Log(_) => whole_powers(points().map(|p| p.0)),
     };
+    let y_range = match axes.y {
+        Scale::Log(_) => whole_powers(points().map(|p| p.1)),
+        Scale::Linear if points().all(|(_, y)| (0.0..=1.0).contains(&y)) => {
+            // A little beyond [0, 1], so that a marker at 0 or 1 is not cut.
+            -0.02..1.02
+        }
+        Scale::Linear => padded(points().map(|p| p.1), 0.05),
+    };
+    // On a log axis one tick per power, at the whole numbers of the axis.
+    let labels = |range: &Range<f64>, scale: Scale, default: usize| match scale {
+        Scale::Linear => default,
+        Scale::Log(_) => ((range.end - range.start).round() as usize + 1).max(2),
+    };
+    let x_labels = labels(&x_range, axes.x, 10);
+    let y_labels = labels(&y_range, axes.y, 10);
 
     let mut chart = ChartBuilder::on(area)
         .caption(title, (font::FAMILY, 22.0 * scale))
@@ -96,8 +169,10 @@ fn draw<S: AsRef<str>>(
         .y_desc(y_label)
         .axis_desc_style((font::FAMILY, 16.0 * scale))
         .label_style((font::FAMILY, 13.0 * scale))
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
+        .x_labels(x_labels)
+        .y_labels(y_labels)
+        .x_label_formatter(&|v| scaled_tick(*v, axes.x))
+        .y_label_formatter(&|v| scaled_tick(*v, axes.y))
         .light_line_style(TRANSPARENT)
         .bold_line_style(RGBColor(225, 225, 230))
         .draw()
@@ -113,7 +188,7 @@ fn draw<S: AsRef<str>>(
                     .point_size(px(3.5)),
             )
             .map_err(drawing)?
-            .label(name.as_ref())
+            .label(*name)
             .legend(move |(x, y)| {
                 PathElement::new(
                     vec![(x, y), (x + legend_width, y)],
@@ -144,6 +219,33 @@ fn tick(value: f64) -> String {
     } else {
         text.to_owned()
     }
+}
+
+/// A tick label in data units: on a log axis the power the position
+/// stands for, to two significant digits (1000, 32, 0.5).
+fn scaled_tick(value: f64, scale: Scale) -> String {
+    match scale {
+        Scale::Linear => tick(value),
+        Scale::Log(_) => {
+            let v = scale.value_at(value);
+            let digits = v.abs().log10().floor() as i32;
+            let unit = 10f64.powi(digits - 1);
+            tick((v / unit).round() * unit)
+        }
+    }
+}
+
+/// The smallest range of whole numbers that holds the values (log axes:
+/// from one power of the base to another), at least one unit long.
+fn whole_powers(values: impl Iterator<Item = f64>) -> Range<f64> {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    if lo > hi {
+        return 0.0..1.0;
+    }
+    let (lo, hi) = (lo.floor(), hi.ceil());
+    if hi > lo { lo..hi } else { lo..lo + 1.0 }
 }
 
 /// The values' range widened by `margin` of its length on each side; a

@@ -3,7 +3,10 @@
 mod common;
 
 use common::{Picture, not_white};
-use vref_viz::{RenderError, Size, line_plot, render_line_plot};
+use vref_viz::{
+    Axes, RenderError, Scale, Size, line_plot, line_plot_scaled, render_line_plot,
+    render_line_plot_scaled,
+};
 
 fn sweep() -> Vec<(&'static str, Vec<(f64, f64)>)> {
     let curve = |drop: f64| {
@@ -73,4 +76,69 @@ fn refuses_non_finite_points() {
         matches!(&error, RenderError::NonFinitePoint { series, index: 1, .. } if series == "sm"),
         "{error}"
     );
+}
+
+fn log_log() -> Axes {
+    Axes {
+        x: Scale::Log(2.0),
+        y: Scale::Log(10.0),
+    }
+}
+
+#[test]
+fn draws_times_against_sizes_on_log_axes() {
+    let sizes = [8.0, 16.0, 32.0, 64.0];
+    let series = vec![
+        (
+            "fast",
+            sizes.iter().map(|&n: &f64| (n, 3.0 * n * n)).collect(),
+        ),
+        (
+            "slow",
+            sizes.iter().map(|&n: &f64| (n, 40.0 * n.powi(4))).collect(),
+        ),
+    ];
+    let size = Size::new(700, 420);
+    let png =
+        render_line_plot_scaled(("solve time", "objects", "us"), &series, log_log(), size).unwrap();
+    let picture = Picture::decode(&png);
+    assert_eq!((picture.width, picture.height), (700, 420));
+    assert!(picture.count(blue) > 200, "first series not drawn");
+    // The same data on linear axes squeezes the fast curve onto the x
+    // axis: the log picture differs.
+    let linear = render_line_plot_scaled(
+        ("solve time", "objects", "us"),
+        &series,
+        Axes::default(),
+        size,
+    )
+    .unwrap();
+    assert_ne!(png, linear);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("log.png");
+    line_plot_scaled(("t", "x", "y"), &series, log_log(), &out).unwrap();
+    assert!(out.exists());
+}
+
+#[test]
+fn refuses_values_a_log_axis_cannot_show() {
+    for bad in [0.0, -1.0] {
+        let series = vec![("sm", vec![(8.0, 1.0), (16.0, bad)])];
+        let error =
+            render_line_plot_scaled(("t", "x", "y"), &series, log_log(), Size::new(400, 300))
+                .unwrap_err();
+        assert!(
+            matches!(&error, RenderError::NonFinitePoint { index: 1, .. }),
+            "{error}"
+        );
+    }
+    // Zero is fine on a linear axis.
+    let series = vec![("sm", vec![(8.0, 1.0), (16.0, 0.0)])];
+    render_line_plot_scaled(
+        ("t", "x", "y"),
+        &series,
+        Axes::default(),
+        Size::new(400, 300),
+    )
+    .unwrap();
 }

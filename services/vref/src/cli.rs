@@ -310,6 +310,72 @@ pub enum BenchCommand {
     /// update by track id and its next solve), and the median iteration
     /// count.
     Solver(BenchSolverArgs),
+    /// Run the matcher and both feeds (synthetic world, snapshots at the
+    /// [feeds] rate) under a root path and prefix of their own, send
+    /// reference queries at --rate, and print round-trip percentiles of
+    /// answers from the cached solution and of answers that needed a
+    /// solve, beside the bare iceoryx2 request/response round trip to an
+    /// echo server measured in the same run with the same client, and
+    /// their ratio. Each tick asks the matcher twice and the echo once, in
+    /// rotating order.
+    Query(BenchQueryArgs),
+    /// Draw solve time against object count (log-log) from the JSON lines
+    /// of `vref bench solver --json` and of tools/pygmtools_bench.py
+    /// --json: one curve per method and tier, one per pygmtools method.
+    Plot(BenchPlotArgs),
+    /// The echo server of `vref bench query` (started by it): answers
+    /// every reference query at once, under the namespace
+    /// `<[ipc] namespace>/bench-echo`.
+    #[command(hide = true)]
+    EchoServer(EchoServerArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct BenchQueryArgs {
+    /// Objects in the synthetic world (each view sees most of them).
+    #[arg(long, value_name = "N", default_value_t = 32)]
+    pub objects: usize,
+    /// Ticks per second; each tick sends two matcher queries and one echo
+    /// query.
+    #[arg(long, value_name = "HZ", default_value_t = 200.0, value_parser = positive_rate)]
+    pub rate: f64,
+    /// How long to measure once the services answer, e.g. 30s.
+    #[arg(long, value_name = "D", default_value = "10s", value_parser = crate::duration::parse_duration)]
+    pub duration: std::time::Duration,
+    /// Print one JSON object: objects, cached_/solve_/bare_ p50, p99 and
+    /// p999 in microseconds, ratio_p99 (cached p99 / bare p99), counts.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file ([matcher] method, [feeds] rates and preset);
+    /// the services run under their own iceoryx2 root path and prefix
+    /// whatever its [ipc] says.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchPlotArgs {
+    /// Output of `vref bench solver --json`; repeat for several files
+    /// (tiers, methods).
+    #[arg(long, value_name = "FILE", required = true)]
+    pub solver: Vec<PathBuf>,
+    /// Output of `tools/pygmtools_bench.py --json` (its total_median_us:
+    /// affinity matrix and solve); repeat for several.
+    #[arg(long, value_name = "FILE")]
+    pub pygmtools: Vec<PathBuf>,
+    /// Which of vref's timings: full or incremental.
+    #[arg(long, value_name = "MODE", default_value = "full")]
+    pub mode: String,
+    /// The picture to write (PNG).
+    #[arg(long, value_name = "FILE.png")]
+    pub out: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct EchoServerArgs {
+    /// Configuration file (its [ipc] section says where to serve).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -1,13 +1,9 @@
 //! `vref demo`: the three services with synthetic feeds, pointing gestures
 //! at known objects, every answer checked against the world's truth.
 
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, anyhow, bail};
-use nix::sys::signal::{Signal, kill};
-use nix::unistd::Pid;
+use anyhow::{anyhow, bail};
 use vref_config::Config;
 use vref_feed::synthetic_world;
 use vref_scene::Side;
@@ -17,15 +13,13 @@ use vref_wire::{AnswerStatus, ReferenceAnswer};
 
 use crate::cli::DemoArgs;
 use crate::failure::{Blame, Failure};
+use crate::launch::{SERVICES, Services, isolated, sibling, write_config};
 use crate::stdout;
 
 /// How long the services may take to give a first answer.
 const READY_WITHIN: Duration = Duration::from_secs(30);
-/// How long a service may take to stop after SIGTERM.
-const STOP_WITHIN: Duration = Duration::from_secs(10);
 /// One query's time limit.
 const QUERY_TIMEOUT: Duration = Duration::from_secs(1);
-const SERVICES: [&str; 3] = ["vref-matcher", "vref-perception-feed", "vref-gesture-feed"];
 
 pub fn run(args: &DemoArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
@@ -44,15 +38,11 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
         .prefix("vref-demo-")
         .tempdir()
         .runtime()?;
-    let demo_config = isolated(&config, dir.path()).runtime()?;
-    let config_path = dir.path().join("vref.toml");
-    let text = toml::to_string(&demo_config)
-        .context("writing the demo configuration")
-        .runtime()?;
-    std::fs::write(&config_path, text).runtime()?;
+    let demo_config = isolated(&config, dir.path(), "vdemo").runtime()?;
+    let config_path = write_config(&demo_config, dir.path()).runtime()?;
 
     let mut services =
-        Services::start(&binaries, &config_path, args.objects, dir.path()).runtime()?;
+        Services::start_system(&binaries, &config_path, args.objects, dir.path()).runtime()?;
     let outcome = query_loop(args, &demo_config, &world);
     let stopped = services.stop();
     let summary = outcome.runtime()?;
@@ -62,119 +52,6 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
         stdout::print(&summary.table())?;
     }
     stopped.runtime()
-}
-
-/// A binary installed beside this one.
-fn sibling(name: &str) -> anyhow::Result<PathBuf> {
-    let exe = std::env::current_exe().context("locating vref")?;
-    let path = exe.with_file_name(name);
-    if !path.exists() {
-        bail!(
-            "{} not found beside {}: build every service first (cargo build --release)",
-            name,
-            exe.display()
-        );
-    }
-    Ok(path)
-}
-
-fn isolated(config: &Config, dir: &Path) -> anyhow::Result<Config> {
-    let root = dir.join("iceoryx2");
-    std::fs::create_dir_all(&root)?;
-    let mut demo = config.clone();
-    demo.ipc.root_path = Some(root);
-    demo.ipc.prefix = format!("vdemo{}_", std::process::id());
-    Ok(demo)
-}
-
-/// The three service processes; stopped with SIGTERM, killed if they
-/// hang.
-struct Services {
-    children: Vec<(String, Child)>,
-    logs: PathBuf,
-}
-
-impl Services {
-    fn start(
-        binaries: &[PathBuf],
-        config: &Path,
-        objects: Option<usize>,
-        logs: &Path,
-    ) -> anyhow::Result<Self> {
-        let mut services = Services {
-            children: Vec::new(),
-            logs: logs.to_owned(),
-        };
-        for binary in binaries {
-            let name = binary
-                .file_name()
-                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-            let log = std::fs::File::create(logs.join(format!("{name}.log")))?;
-            let mut command = Command::new(binary);
-            command.arg("--config").arg(config);
-            if let (Some(n), true) = (objects, name.ends_with("feed")) {
-                command.arg("--objects").arg(n.to_string());
-            }
-            let child = command
-                .stdin(Stdio::null())
-                .stdout(log.try_clone()?)
-                .stderr(log)
-                .spawn()
-                .with_context(|| format!("starting {}", binary.display()))?;
-            tracing::info!(service = %name, pid = child.id(), "started");
-            services.children.push((name, child));
-        }
-        Ok(services)
-    }
-
-    /// SIGTERM to each, then waits; a service that does not stop in time
-    /// is killed and reported.
-    fn stop(&mut self) -> anyhow::Result<()> {
-        let mut problems = Vec::new();
-        for (name, child) in &mut self.children {
-            let pid = Pid::from_raw(i32::try_from(child.id()).unwrap_or(i32::MAX));
-            kill(pid, Signal::SIGTERM).ok();
-            let deadline = Instant::now() + STOP_WITHIN;
-            let status = loop {
-                match child.try_wait() {
-                    Ok(Some(status)) => break Some(status),
-                    Ok(None) if Instant::now() < deadline => {
-                        std::thread::sleep(Duration::from_millis(20))
-                    }
-                    _ => break None,
-                }
-            };
-            match status {
-                Some(s) if s.success() => tracing::info!(service = %name, "stopped"),
-                Some(s) => problems.push(format!("{name} exited with {s}")),
-                None => {
-                    child.kill().ok();
-                    child.wait().ok();
-                    problems.push(format!(
-                        "{name} did not stop within {STOP_WITHIN:?} and was killed"
-                    ));
-                }
-            }
-        }
-        self.children.clear();
-        if problems.is_empty() {
-            Ok(())
-        } else {
-            Err(anyhow!(
-                "{} (logs in {})",
-                problems.join("; "),
-                self.logs.display()
-            ))
-        }
-    }
-}
-
-impl Drop for Services {
-    fn drop(&mut self) {
-        if !self.children.is_empty() {
-            self.stop().ok();
-        }
-    }
 }
 
 /// The `--json` summary; field order is the documented contract's.

@@ -5,6 +5,8 @@
 //! "it broke".
 
 mod bench;
+mod bench_plot;
+mod bench_query;
 mod cli;
 mod config_cmd;
 mod demo;
@@ -13,6 +15,7 @@ mod eval;
 mod failure;
 mod import;
 mod inject;
+mod launch;
 mod progress;
 mod query;
 mod record;
@@ -49,6 +52,9 @@ fn main() -> ExitCode {
         Command::Inject(args) => inject::run(&args),
         Command::Demo(args) => demo::run(&args),
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
+        Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
+        Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
+        Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

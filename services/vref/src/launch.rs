@@ -1,0 +1,153 @@
+//! Child service processes under their own iceoryx2 root path and prefix,
+//! for commands that run the whole system themselves (`vref demo`,
+//! `vref bench query`).
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, anyhow, bail};
+use nix::sys::signal::{Signal, kill};
+use nix::unistd::Pid;
+use vref_config::Config;
+
+/// How long a service may take to stop after SIGTERM.
+const STOP_WITHIN: Duration = Duration::from_secs(10);
+/// The matcher and the two feeds.
+pub const SERVICES: [&str; 3] = ["vref-matcher", "vref-perception-feed", "vref-gesture-feed"];
+
+/// A binary installed beside this one.
+pub fn sibling(name: &str) -> anyhow::Result<PathBuf> {
+    let exe = std::env::current_exe().context("locating vref")?;
+    let path = exe.with_file_name(name);
+    if !path.exists() {
+        bail!(
+            "{} not found beside {}: build every service first (cargo build --release)",
+            name,
+            exe.display()
+        );
+    }
+    Ok(path)
+}
+
+/// `config` with its own root path in `dir` and a prefix of its own, so
+/// that the services started never meet, or disturb, services already
+/// running on this machine. `tag` starts the prefix.
+pub fn isolated(config: &Config, dir: &Path, tag: &str) -> anyhow::Result<Config> {
+    let root = dir.join("iceoryx2");
+    std::fs::create_dir_all(&root)?;
+    let mut own = config.clone();
+    own.ipc.root_path = Some(root);
+    own.ipc.prefix = format!("{tag}{}_", std::process::id());
+    Ok(own)
+}
+
+/// Writes `config` into `dir` for the children to read.
+pub fn write_config(config: &Config, dir: &Path) -> anyhow::Result<PathBuf> {
+    let path = dir.join("vref.toml");
+    let text = toml::to_string(config).context("writing the configuration")?;
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+    Ok(path)
+}
+
+/// Service processes; stopped with SIGTERM, killed if they hang. Each
+/// logs into `<name>.log` in the log directory.
+pub struct Services {
+    children: Vec<(String, Child)>,
+    logs: PathBuf,
+}
+
+impl Services {
+    pub fn new(logs: &Path) -> Self {
+        Services {
+            children: Vec::new(),
+            logs: logs.to_owned(),
+        }
+    }
+
+    /// The matcher and both feeds from `binaries` (as [`SERVICES`]) with
+    /// `--config`, the feeds with `--objects` if given.
+    pub fn start_system(
+        binaries: &[PathBuf],
+        config: &Path,
+        objects: Option<usize>,
+        logs: &Path,
+    ) -> anyhow::Result<Self> {
+        let mut services = Services::new(logs);
+        for binary in binaries {
+            let name = binary
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            let mut command = Command::new(binary);
+            command.arg("--config").arg(config);
+            if let (Some(n), true) = (objects, name.ends_with("feed")) {
+                command.arg("--objects").arg(n.to_string());
+            }
+            services.spawn(&name, command)?;
+        }
+        Ok(services)
+    }
+
+    /// Starts `command` as the service `name`.
+    pub fn spawn(&mut self, name: &str, mut command: Command) -> anyhow::Result<()> {
+        let log = std::fs::File::create(self.logs.join(format!("{name}.log")))?;
+        let child = command
+            .stdin(Stdio::null())
+            .stdout(log.try_clone()?)
+            .stderr(log)
+            .spawn()
+            .with_context(|| format!("starting {name}"))?;
+        tracing::info!(service = %name, pid = child.id(), "started");
+        self.children.push((name.to_owned(), child));
+        Ok(())
+    }
+
+    /// SIGTERM to each, then waits; a service that does not stop in time
+    /// is killed and reported.
+    pub fn stop(&mut self) -> anyhow::Result<()> {
+        let mut problems = Vec::new();
+        for (name, child) in &mut self.children {
+            let pid = Pid::from_raw(i32::try_from(child.id()).unwrap_or(i32::MAX));
+            kill(pid, Signal::SIGTERM).ok();
+            let deadline = Instant::now() + STOP_WITHIN;
+            let status = loop {
+                match child.try_wait() {
+                    Ok(Some(status)) => break Some(status),
+                    Ok(None) if Instant::now() < deadline => {
+                        std::thread::sleep(Duration::from_millis(20))
+                    }
+                    _ => break None,
+                }
+            };
+            match status {
+                Some(s) if s.success() => tracing::info!(service = %name, "stopped"),
+                Some(s) => problems.push(format!("{name} exited with {s}")),
+                None => {
+                    child.kill().ok();
+                    child.wait().ok();
+                    problems.push(format!(
+                        "{name} did not stop within {STOP_WITHIN:?} and was killed"
+                    ));
+                }
+            }
+        }
+        self.children.clear();
+        if problems.is_empty() {
+            Ok(())
+        } else {
+            Err(anyhow!(
+                "{} (logs in {})",
+                problems.join("; "),
+                self.logs.display()
+            ))
+        }
+    }
+}
+
+impl Drop for Services {
+    fn drop(&mut self) {
+        if !self.children.is_empty() {
+            self.stop().ok();
+        }
+    }
+}

@@ -1,0 +1,92 @@
+//! `vref bench query` with real service processes: a short run reports
+//! every documented figure, with cached answers, answers after a solve and
+//! bare round trips all measured, and no query lost. Timings themselves
+//! are never asserted (they go in README).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod support;
+
+use std::time::Duration;
+
+use support::processes::Harness;
+
+#[test]
+fn a_short_run_reports_cached_solved_and_bare_round_trips() {
+    // The harness's configuration only sets [matcher] timings here: the
+    // command runs its services under a root path and prefix of its own.
+    let h = Harness::new("bq", "");
+    let run = support::vref(
+        &[
+            "bench",
+            "query",
+            "--objects",
+            "8",
+            "--rate",
+            "100",
+            "--duration",
+            "2s",
+            "--json",
+            "--config",
+            h.config_arg(),
+        ],
+        Duration::from_secs(120),
+    )
+    .ok();
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert_eq!(lines.len(), 1, "exactly one JSON object:\n{}", run.stdout);
+    let report: serde_json::Value = serde_json::from_str(lines[0]).unwrap();
+    assert_eq!(report["objects"], 8, "{report}");
+    for key in [
+        "cached_p50_us",
+        "cached_p99_us",
+        "solve_p50_us",
+        "solve_p99_us",
+        "bare_p50_us",
+        "bare_p99_us",
+        "ratio_p99",
+        "cached_p999_us",
+        "solve_p999_us",
+        "bare_p999_us",
+    ] {
+        let value = report[key].as_f64();
+        assert!(value.is_some_and(|v| v > 0.0), "{key}: {report}");
+    }
+    for kind in ["cached", "solve", "bare"] {
+        let count = report[format!("{kind}_count")].as_u64().unwrap();
+        assert!(count > 0, "no {kind} round trips: {report}");
+        let p50 = report[format!("{kind}_p50_us")].as_f64().unwrap();
+        let p99 = report[format!("{kind}_p99_us")].as_f64().unwrap();
+        let p999 = report[format!("{kind}_p999_us")].as_f64().unwrap();
+        assert!(p50 <= p99 && p99 <= p999, "{kind}: {report}");
+    }
+    let ratio = report["ratio_p99"].as_f64().unwrap();
+    let expected =
+        report["cached_p99_us"].as_f64().unwrap() / report["bare_p99_us"].as_f64().unwrap();
+    assert!(
+        (ratio - expected).abs() <= 0.001 * expected.max(1.0),
+        "{report}"
+    );
+    assert_eq!(report["timeouts"], 0, "{report}");
+    assert_eq!(report["errors"], 0, "{report}");
+    // Two matcher queries and one bare query per tick.
+    let matcher = report["cached_count"].as_u64().unwrap()
+        + report["solve_count"].as_u64().unwrap()
+        + report["other_count"].as_u64().unwrap();
+    assert_eq!(
+        matcher,
+        2 * report["bare_count"].as_u64().unwrap(),
+        "{report}"
+    );
+}
+
+#[test]
+fn too_few_objects_or_a_bad_rate_are_bad_input() {
+    for args in [
+        &["bench", "query", "--objects", "1"][..],
+        &["bench", "query", "--rate", "0"][..],
+        &["bench", "query", "--duration", "soon"][..],
+    ] {
+        let run = support::vref(args, Duration::from_secs(30));
+        assert_eq!(run.code, Some(2), "{args:?}: {}", run.stderr);
+    }
+}
