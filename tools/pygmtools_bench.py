@@ -1,25 +1,40 @@
 #!/usr/bin/env python3
 """Times pygmtools' RRWM and SM on vref dataset files, for comparison with
-`vref eval` (mean solve time) and `vref bench solver`. Not part of CI.
+`vref bench solver` (same scenes) and `vref eval` (same answers). Not part
+of CI.
+
+The scenes: `vref scenes --preset rigid --objects N --count 8 --seed 1` writes exactly the
+eight scenes of N objects per view that `vref bench solver` times by
+default (seed 1), with their ground truth; any other dataset file works too
+(scenes are grouped by their human object count).
 
 The affinity is the one vref's methods use (ALGORITHMS.md): edge affinity
 exp(-(d - d')^2 / beta) between edge lengths, every ordered pair of objects
 unless a view lists "edges"; node affinity 0 (vref's sm and rrwm ignore
 appearance) or, with --node cosine, the cosine of the features as vref's
-appearance term. pygmtools runs on its numpy backend on one thread.
+appearance term. The solvers get ALGORITHMS.md's constants where pygmtools
+has them: RRWM c = alpha = 0.2, jump amplification beta = 30, at most 300
+iterations; SM at most 1000 iterations. pygmtools keeps its own stopping
+rules (change below 1e-5) and runs a fixed 20 Sinkhorn rounds inside RRWM
+(vref: row and column sums within 1e-3, up to 1000 rounds), so iteration
+counts differ; the answers are compared through accuracy against the
+file's ground truth. pygmtools runs on its numpy backend on one thread.
 
-Usage (pip install pygmtools; numpy backend, no torch needed):
+Usage (pip install pygmtools==0.6.0; numpy backend, no torch needed):
 
     python3 tools/pygmtools_bench.py --dataset FILE.jsonl [FILE2.jsonl ...]
         [--beta 0.01] [--method rrwm --method sm] [--repeats 5]
-        [--node zero|cosine] [--json]
+        [--node zero|cosine] [--params algorithms|defaults] [--json]
 
 For each method and scene size (human objects per scene) it prints the
-median and p99 of the solve (pygm.rrwm / pygm.sm plus pygm.hungarian) and,
-separately, of building the (nn')^2 affinity matrix, plus the accuracy
-against the file's ground truth. With --json: one object per line,
-{"method", "objects", "scenes", "solve_median_us", "solve_p99_us",
-"affinity_median_us", "affinity_p99_us", "accuracy"}.
+median and p99 over scenes and repeats of building the (nn')^2 affinity
+matrix (pygm.utils.build_aff_mat), of the solve (pygm.rrwm / pygm.sm plus
+pygm.hungarian), and of both together (what `vref bench solver` times as
+a full solve), plus the accuracy against the file's ground truth and the
+number of scenes answered perfectly. With --json: one object per line,
+{"method", "params", "objects", "scenes", "affinity_median_us", "affinity_p99_us",
+"solve_median_us", "solve_p99_us", "total_median_us", "total_p99_us",
+"accuracy", "perfect_scenes"}.
 """
 
 import os
@@ -112,10 +127,19 @@ def main():
     parser.add_argument("--method", action="append", choices=["rrwm", "sm"])
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--node", choices=["zero", "cosine"], default="zero")
+    parser.add_argument("--params", choices=["algorithms", "defaults"], default="algorithms",
+                        help="ALGORITHMS.md's constants (default) or pygmtools' own "
+                             "(RRWM: at most 50 iterations; SM: at most 50)")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     methods = args.method or ["rrwm", "sm"]
-    solvers = {"rrwm": pygm.rrwm, "sm": pygm.sm}
+    # ALGORITHMS.md's constants, where pygmtools has a parameter for them.
+    solvers = {
+        "rrwm": lambda K, n1, n2: pygm.rrwm(K, n1, n2, max_iter=300, alpha=0.2, beta=30),
+        "sm": lambda K, n1, n2: pygm.sm(K, n1, n2, max_iter=1000),
+    }
+    if args.params == "defaults":
+        solvers = {"rrwm": pygm.rrwm, "sm": pygm.sm}
 
     pairs = []
     for path in args.dataset:
@@ -124,6 +148,8 @@ def main():
 
     solve_us = defaultdict(list)
     aff_us = defaultdict(list)
+    total_us = defaultdict(list)
+    perfect = defaultdict(int)
     right = defaultdict(lambda: [0, 0])
     scenes = defaultdict(set)
     for p in pairs:
@@ -142,34 +168,46 @@ def main():
                 t2 = time.perf_counter()
                 aff_us[key].append((t1 - t0) * 1e6)
                 solve_us[key].append((t2 - t1) * 1e6)
+                total_us[key].append((t2 - t0) * 1e6)
             X = X[0]
+            wrong = 0
             for i, h in enumerate(human[0]):
                 cols = np.nonzero(X[i])[0]
                 pred = robot[0][cols[0]] if len(cols) else None
-                right[key][0] += pred == truth.get(h)
+                ok = pred == truth.get(h)
+                right[key][0] += ok
                 right[key][1] += 1
+                wrong += not ok
+            perfect[key] += wrong == 0
 
     if not args.json:
         print(f"pygmtools {pygm.__version__}, numpy backend, 1 thread, {args.repeats} repeats per scene")
-        print(f"{'method':<6} {'objects':>7} {'scenes':>6} {'solve med us':>12} {'solve p99 us':>12} "
-              f"{'affinity med us':>15} {'accuracy':>8}")
+        print(f"{'method':<6} {'objects':>7} {'scenes':>6} {'affinity med us':>15} "
+              f"{'solve med us':>12} {'solve p99 us':>12} {'total med us':>12} {'total p99 us':>12} "
+              f"{'accuracy':>8} {'perfect':>7}")
     for key in sorted(solve_us):
         method, n = key
         row = {
             "method": method,
+            "params": args.params,
             "objects": n,
             "scenes": len(scenes[key]),
             "solve_median_us": percentile(solve_us[key], 0.5),
             "solve_p99_us": percentile(solve_us[key], 0.99),
             "affinity_median_us": percentile(aff_us[key], 0.5),
             "affinity_p99_us": percentile(aff_us[key], 0.99),
+            "total_median_us": percentile(total_us[key], 0.5),
+            "total_p99_us": percentile(total_us[key], 0.99),
             "accuracy": right[key][0] / max(1, right[key][1]),
+            "perfect_scenes": perfect[key],
         }
         if args.json:
             print(json.dumps(row))
         else:
-            print(f"{method:<6} {n:>7} {row['scenes']:>6} {row['solve_median_us']:>12.0f} "
-                  f"{row['solve_p99_us']:>12.0f} {row['affinity_median_us']:>15.0f} {row['accuracy']:>8.3f}")
+            print(f"{method:<6} {n:>7} {row['scenes']:>6} {row['affinity_median_us']:>15.0f} "
+                  f"{row['solve_median_us']:>12.0f} {row['solve_p99_us']:>12.0f} "
+                  f"{row['total_median_us']:>12.0f} {row['total_p99_us']:>12.0f} "
+                  f"{row['accuracy']:>8.3f} {row['perfect_scenes']:>7}")
     return 0
 
 

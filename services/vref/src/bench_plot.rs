@@ -117,7 +117,12 @@ fn vref_point(v: &serde_json::Value, mode: &str) -> anyhow::Result<Option<(Strin
 /// `{"method", "objects", "total_median_us", ...}`: affinity matrix and
 /// solve together, as vref's full solve counts them.
 fn pygmtools_point(v: &serde_json::Value) -> anyhow::Result<Option<(String, u64, f64)>> {
-    let name = format!("pygmtools {}", text(v, "method")?);
+    let method = text(v, "method")?;
+    // Lines of the script's --params defaults are a curve of their own.
+    let name = match v.get("params").and_then(|p| p.as_str()) {
+        Some("defaults") => format!("pygmtools {method} (its defaults)"),
+        _ => format!("pygmtools {method}"),
+    };
     Ok(Some((name, objects(v)?, number(v, "total_median_us")?)))
 }
 
@@ -147,6 +152,12 @@ mod tests {
         assert_eq!(
             pygmtools_point(&line).unwrap(),
             Some(("pygmtools sm".to_owned(), 16, 900.5))
+        );
+        let defaults = serde_json::json!({"method": "rrwm", "params": "defaults",
+            "objects": 8, "total_median_us": 10.0});
+        assert_eq!(
+            pygmtools_point(&defaults).unwrap().unwrap().0,
+            "pygmtools rrwm (its defaults)"
         );
     }
 
