@@ -20,7 +20,9 @@ pub struct FeedArgs {
     #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub rate: Option<f64>,
     /// Synthetic source: objects in the world (default: drawn per class as
-    /// the preset says). Both feeds must be given the same.
+    /// the preset says). More than the preset ever draws enlarges the
+    /// workspace and moves the cameras back to keep the preset's density
+    /// and view angles. Both feeds must be given the same.
     #[arg(long, value_name = "N")]
     pub objects: Option<usize>,
     /// Synthetic and dataset sources: the time origin of the world and of
