@@ -12,8 +12,9 @@ use crate::{RenderError, Size, font};
 /// Size of the pictures [`line_plot`] writes.
 pub const LINE_PLOT_SIZE: Size = Size::new(900, 560);
 
-/// Colours that stay apart for colour-blind readers (Okabe and Ito).
-const PALETTE: [RGBColor; 7] = [
+/// Colours that stay apart for colour-blind readers (Okabe and Ito),
+/// then a grey and a wine for plots of more than seven curves.
+const PALETTE: [RGBColor; 9] = [
     RGBColor(0, 114, 178),
     RGBColor(213, 94, 0),
     RGBColor(0, 158, 115),
@@ -21,6 +22,8 @@ const PALETTE: [RGBColor; 7] = [
     RGBColor(230, 159, 0),
     RGBColor(86, 180, 233),
     RGBColor(0, 0, 0),
+    RGBColor(140, 140, 140),
+    RGBColor(136, 34, 85),
 ];
 
 /// How an axis maps values to positions.
@@ -55,6 +58,10 @@ impl Scale {
 pub struct Axes {
     pub x: Scale,
     pub y: Scale,
+    /// Start the x axis here (data units) when that is below the data:
+    /// room on the left, where the legend then goes, for plots with many
+    /// curves that fill every corner.
+    pub legend_room_from: Option<f64>,
 }
 
 /// Writes a line plot of `series` (name, points) to `out` as a PNG of
@@ -136,9 +143,10 @@ fn draw(
         .clamp(0.5, 4.0);
     let px = |v: f64| (v * scale).round() as u32;
     let points = || series.iter().flat_map(|(_, p)| p.iter().copied());
+    let room = axes.legend_room_from.map(|x| axes.x.to_axis(x));
     let x_range = match axes.x {
-        Scale::Linear => padded(points().map(|p| p.0), 0.0),
-        Scale::Log(_) => whole_powers(points().map(|p| p.0)),
+        Scale::Linear => padded(points().map(|p| p.0).chain(room), 0.0),
+        Scale::Log(_) => whole_powers(points().map(|p| p.0).chain(room)),
     };
     let y_range = match axes.y {
         Scale::Log(_) => whole_powers(points().map(|p| p.1)),
@@ -199,7 +207,10 @@ fn draw(
     if !series.is_empty() {
         chart
             .configure_series_labels()
-            .position(emptiest_corner(points(), &x_range, &y_range))
+            .position(match room {
+                Some(_) => SeriesLabelPosition::UpperLeft,
+                None => emptiest_corner(points(), &x_range, &y_range),
+            })
             .label_font((font::FAMILY, 14.0 * scale))
             .background_style(WHITE.mix(0.9))
             .border_style(RGBColor(190, 190, 196))

@@ -82,6 +82,7 @@ fn log_log() -> Axes {
     Axes {
         x: Scale::Log(2.0),
         y: Scale::Log(10.0),
+        legend_room_from: None,
     }
 }
 

@@ -36,9 +36,16 @@ pub fn plot(args: &BenchPlotArgs) -> Result<(), Failure> {
             (name, points)
         })
         .collect();
+    // Two powers of 2 of room left of the smallest size: the legend of
+    // up to a dozen curves goes there instead of over them.
+    let smallest = series
+        .iter()
+        .flat_map(|(_, p)| p.iter().map(|q| q.0))
+        .fold(f64::INFINITY, f64::min);
     let axes = Axes {
         x: Scale::Log(2.0),
         y: Scale::Log(10.0),
+        legend_room_from: smallest.is_finite().then_some(smallest / 4.0),
     };
     let title = format!(
         "{} solve time (affinities, solve, assignment), median",
