@@ -209,3 +209,74 @@ impl ReferenceAnswer {
         &self.alternatives[..n]
     }
 }
+
+/// Room for the matcher's reject reasons (vref-reference's `RejectReason`
+/// as index); spare slots stay zero, so reasons can be added without a
+/// layout change.
+pub const MAX_REJECT_REASONS: usize = 32;
+/// Room for the answer statuses ([`AnswerStatus`] code as index).
+pub const MAX_ANSWER_STATUSES: usize = 8;
+
+/// What the matcher has done since it started, published periodically so
+/// that other processes (soak, monitors) can watch it. Counters only
+/// grow while one matcher process lives; a restarted matcher starts
+/// again from zero with a new `pid` and `started_ns`.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::MatcherStats")]
+pub struct MatcherStats {
+    /// When the matcher started, nanoseconds since the Unix epoch.
+    pub started_ns: u64,
+    /// When these figures were taken, nanoseconds since the Unix epoch.
+    pub taken_ns: u64,
+    pub uptime_ms: u64,
+    /// Snapshot samples taken from each side's service, by [`SideCode`],
+    /// valid or not.
+    pub snapshots_received: [u64; 2],
+    /// Of those, the ones that passed every check.
+    pub snapshots_accepted: [u64; 2],
+    /// Messages rejected, by reason index.
+    pub rejected: [u64; MAX_REJECT_REASONS],
+    /// Queries answered, by [`AnswerStatus`] code.
+    pub answers: [u64; MAX_ANSWER_STATUSES],
+    /// Matching problems solved.
+    pub solves: u64,
+    /// Resident memory of the matcher process, kB; 0 if unknown.
+    pub rss_kb: u64,
+    pub pid: u32,
+    pub schema_version: u32,
+}
+
+impl Default for MatcherStats {
+    fn default() -> Self {
+        Self {
+            started_ns: 0,
+            taken_ns: 0,
+            uptime_ms: 0,
+            snapshots_received: [0; 2],
+            snapshots_accepted: [0; 2],
+            rejected: [0; MAX_REJECT_REASONS],
+            answers: [0; MAX_ANSWER_STATUSES],
+            solves: 0,
+            rss_kb: 0,
+            pid: 0,
+            schema_version: SCHEMA_VERSION,
+        }
+    }
+}
+
+impl MatcherStats {
+    /// Queries answered with `status`.
+    pub fn answered(&self, status: AnswerStatus) -> u64 {
+        self.answers[status as usize]
+    }
+
+    /// Queries answered, whatever the status.
+    pub fn answered_total(&self) -> u64 {
+        self.answers.iter().sum()
+    }
+
+    pub fn rejected_total(&self) -> u64 {
+        self.rejected.iter().sum()
+    }
+}

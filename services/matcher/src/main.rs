@@ -6,6 +6,7 @@
 //! 2 bad configuration.
 
 mod service;
+mod stats;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -8,9 +8,12 @@ use vref_config::Config;
 use vref_reference::ReferenceState;
 use vref_scene::Side;
 use vref_wire::ipc::{
-    create_node, open_answer_event, open_gesture, open_reference, open_request_event, open_snapshot,
+    StatsPublisher, create_node, open_answer_event, open_gesture, open_reference,
+    open_request_event, open_snapshot,
 };
 use vref_wire::{ObjectEntry, SnapshotHeader};
+
+use crate::stats::{self, Counters};
 
 /// How often the matcher logs what it has done.
 const REPORT_EVERY: Duration = Duration::from_secs(10);
@@ -65,6 +68,7 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
         .notifier_builder()
         .create()
         .map_err(|e| port_error("answer notifier", &e))?;
+    let stats_publisher = StatsPublisher::new(&node, ipc)?;
 
     let stale_after = Duration::from_millis(config.matcher.stale_after_ms);
     let waitset = WaitSetBuilder::new()
@@ -86,9 +90,12 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
     let cleanup_guard = waitset
         .attach_interval(Duration::from_millis(config.matcher.cleanup_interval_ms))
         .map_err(|e| attach(&e))?;
+    let stats_guard = waitset
+        .attach_interval(stats::PUBLISH_EVERY)
+        .map_err(|e| attach(&e))?;
 
     tracing::info!(namespace = %ipc.namespace, method = %config.matcher.method, "matcher ready");
-    let mut answered = 0u64;
+    let mut counters = Counters::new();
     let mut silent = [false; 2];
     let mut last_report = Instant::now();
     let on_event = |id: WaitSetAttachmentId<ipc::Service>| {
@@ -99,7 +106,7 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
             let flag = &mut silent[side as usize];
             if id.has_event_from(guard) {
                 drain(listener);
-                take_snapshot(&mut state, side, sub);
+                take_snapshot(&mut state, &mut counters, side, sub);
                 if *flag {
                     tracing::info!(%side, "feed is back");
                     *flag = false;
@@ -119,12 +126,11 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
         }
         // Requests are served on every wake-up: a client's notification
         // may have been merged with another event.
-        let served = serve(&mut state, &server);
-        if served > 0 {
-            answered += served;
-            if let Err(e) = answer_notifier.notify() {
-                tracing::warn!("notifying answers: {e:?}");
-            }
+        let served = serve(&mut state, &mut counters, &server);
+        if served > 0
+            && let Err(e) = answer_notifier.notify()
+        {
+            tracing::warn!("notifying answers: {e:?}");
         }
         if id.has_event_from(&cleanup_guard) {
             let cleanup = node.try_cleanup_dead_nodes();
@@ -136,10 +142,15 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
                 );
             }
         }
+        if id.has_event_from(&stats_guard)
+            && let Err(e) = stats_publisher.publish(&counters.message(&state))
+        {
+            tracing::warn!("publishing statistics: {e}");
+        }
         if last_report.elapsed() >= REPORT_EVERY {
             last_report = Instant::now();
             tracing::info!(
-                answered,
+                answered = counters.answered(),
                 solves = state.solves(),
                 rejected = state.rejections().total(),
                 "status"
@@ -152,7 +163,7 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
         .map_err(|e| anyhow!("waiting: {e:?}"))?;
     tracing::info!(
         ?result,
-        answered,
+        answered = counters.answered(),
         solves = state.solves(),
         "matcher stopped"
     );
@@ -169,7 +180,12 @@ fn drain(listener: &Listener<ipc::Service>) {
 }
 
 /// Validates the newest snapshot in place and hands it to the state.
-fn take_snapshot(state: &mut ReferenceState, side: Side, sub: &SnapshotSubscriber) {
+fn take_snapshot(
+    state: &mut ReferenceState,
+    counters: &mut Counters,
+    side: Side,
+    sub: &SnapshotSubscriber,
+) {
     let mut latest = None;
     loop {
         match sub.receive() {
@@ -181,10 +197,13 @@ fn take_snapshot(state: &mut ReferenceState, side: Side, sub: &SnapshotSubscribe
             }
         }
     }
-    if let Some(sample) = latest
-        && let Err(rejected) =
-            state.accept_snapshot(side, sample.user_header(), sample.payload(), Instant::now())
-    {
+    let Some(sample) = latest else {
+        return;
+    };
+    let accepted =
+        state.accept_snapshot(side, sample.user_header(), sample.payload(), Instant::now());
+    counters.snapshot(side, accepted.is_ok());
+    if let Err(rejected) = accepted {
         tracing::warn!(%side, reason = %rejected.reason, "rejected snapshot: {}", rejected.detail);
     }
 }
@@ -212,6 +231,7 @@ fn take_ray(
 /// Answers every waiting request; returns how many.
 fn serve(
     state: &mut ReferenceState,
+    counters: &mut Counters,
     server: &iceoryx2::port::server::Server<
         ipc::Service,
         vref_wire::ReferenceQuery,
@@ -237,7 +257,10 @@ fn serve(
             .map_err(|e| format!("{e:?}"))
             .and_then(|r| r.send().map_err(|e| format!("{e:?}")));
         match sent {
-            Ok(()) => served += 1,
+            Ok(()) => {
+                served += 1;
+                counters.answer(answer.status());
+            }
             Err(e) => tracing::warn!("sending an answer: {e}"),
         }
     }

@@ -9,6 +9,7 @@ mod node;
 mod publishers;
 mod services;
 mod settings;
+mod stats;
 
 pub use client::ReferenceClient;
 pub use error::IpcError;
@@ -16,7 +17,8 @@ pub use names::ServiceNames;
 pub use node::{Node, create_node, now_ns};
 pub use publishers::{GesturePublisher, SnapshotPublisher};
 pub use services::{
-    AnswerPort, EventPort, GesturePort, ReferencePort, SnapshotPort, open_answer_event,
-    open_gesture, open_reference, open_request_event, open_snapshot,
+    AnswerPort, EventPort, GesturePort, ReferencePort, SnapshotPort, StatsPort, open_answer_event,
+    open_gesture, open_reference, open_request_event, open_snapshot, open_stats,
 };
 pub use settings::IpcSettings;
+pub use stats::{StatsPublisher, StatsReader};

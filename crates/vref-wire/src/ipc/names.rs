@@ -33,6 +33,11 @@ impl ServiceNames {
         format!("{data_service}/event")
     }
 
+    /// The matcher's periodic statistics.
+    pub fn matcher_stats(&self) -> String {
+        format!("{}/matcher/stats", self.namespace)
+    }
+
     /// Signalled by the matcher after it sent answers.
     pub fn answers(&self) -> String {
         format!("{}/reference/answers", self.namespace)

@@ -4,13 +4,16 @@ use vref_scene::Side;
 
 use super::error::{IpcError, iceoryx_err};
 use super::{IpcSettings, Node, ServiceNames};
-use crate::{ObjectEntry, PointingRay, ReferenceAnswer, ReferenceQuery, SnapshotHeader};
+use crate::{
+    MatcherStats, ObjectEntry, PointingRay, ReferenceAnswer, ReferenceQuery, SnapshotHeader,
+};
 
 pub type SnapshotPort = publish_subscribe::PortFactory<ipc::Service, [ObjectEntry], SnapshotHeader>;
 pub type GesturePort = publish_subscribe::PortFactory<ipc::Service, PointingRay, ()>;
 pub type ReferencePort =
     request_response::PortFactory<ipc::Service, ReferenceQuery, (), ReferenceAnswer, ()>;
 pub type EventPort = event::PortFactory<ipc::Service>;
+pub type StatsPort = publish_subscribe::PortFactory<ipc::Service, MatcherStats, ()>;
 pub type AnswerPort = EventPort;
 
 /// Event id sent when a notifier's process was found dead and cleaned up.
@@ -108,4 +111,19 @@ pub fn open_answer_event(node: &Node, settings: &IpcSettings) -> Result<AnswerPo
         settings,
         &ServiceNames::new(&settings.namespace).answers(),
     )
+}
+
+/// The matcher's statistics (latest wins; a late subscriber gets the last
+/// one published). No event: readers poll.
+pub fn open_stats(node: &Node, settings: &IpcSettings) -> Result<StatsPort, IpcError> {
+    let name = ServiceNames::new(&settings.namespace).matcher_stats();
+    node.service_builder(&service_name(&name)?)
+        .publish_subscribe::<MatcherStats>()
+        .history_size(1)
+        .subscriber_max_buffer_size(1)
+        .enable_safe_overflow(true)
+        .max_publishers(PORTS_PER_ROLE)
+        .max_subscribers(settings.max_subscribers + settings.max_clients)
+        .open_or_create()
+        .map_err(|e| iceoryx_err(format!("opening {name}"), e))
 }
