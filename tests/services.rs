@@ -9,38 +9,11 @@ use std::time::Duration;
 
 use nix::sys::signal::Signal;
 use support::processes::{Harness, eventually};
-use vref_inject::{VALID_FEATURE_DIM, robot_id, valid_objects};
+use support::table::table_harness;
+use vref_inject::{robot_id, valid_objects};
 use vref_scene::Side;
-use vref_wire::ipc::{IpcSettings, ReferenceClient};
+use vref_wire::ipc::ReferenceClient;
 use vref_wire::{AnswerStatus, ObjectEntry};
-
-/// The six-object table of `vref inject --kind valid`, as a dataset line:
-/// each view's objects with their features, and the truth.
-fn dataset() -> String {
-    let view = |side| -> Vec<serde_json::Value> {
-        valid_objects(side)
-            .iter()
-            .map(|o| {
-                serde_json::json!({
-                    "id": o.track_id,
-                    "position": o.position.map(f64::from),
-                    "feature": o.feature[..VALID_FEATURE_DIM].to_vec(),
-                })
-            })
-            .collect()
-    };
-    let truth: Vec<_> = human_objects()
-        .iter()
-        .map(|o| [o.track_id, robot_id(o.track_id)])
-        .collect();
-    let line = serde_json::json!({
-        "name": "table",
-        "robot": {"objects": view(Side::Robot)},
-        "human": {"objects": view(Side::Human)},
-        "ground_truth": truth,
-    });
-    format!("{line}\n")
-}
 
 fn human_objects() -> Vec<ObjectEntry> {
     valid_objects(Side::Human)
@@ -54,15 +27,6 @@ fn robot_position(h: u64) -> [f32; 3] {
         .find(|o| o.track_id == robot_id(h))
         .map(|o| o.position)
         .unwrap()
-}
-
-/// A harness with the scene file and the ipc settings its config holds.
-fn harness(tag: &str) -> (Harness, IpcSettings, String) {
-    let h = Harness::new(tag, "[matching]\nbeta = 0.01\n");
-    let scene = h.dir.path().join("table.jsonl");
-    std::fs::write(&scene, dataset()).unwrap();
-    let config = vref_config::Config::from_file(&h.config).unwrap();
-    (h, config.ipc, format!("dataset:{}", scene.display()))
 }
 
 fn start_feeds(h: &mut Harness, source: &str) {
@@ -101,7 +65,7 @@ fn status_of(client: &mut ReferenceClient, id: u64) -> Option<AnswerStatus> {
 
 #[test]
 fn a_pointed_object_is_answered_correctly_end_to_end() {
-    let (mut h, ipc, source) = harness("e2e");
+    let (mut h, ipc, source) = table_harness("e2e");
     start_all(&mut h, &source);
     let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
     wait_ready(&mut client, &h);
@@ -145,7 +109,7 @@ fn a_pointed_object_is_answered_correctly_end_to_end() {
 
 #[test]
 fn a_killed_feed_makes_answers_stale_and_a_restarted_feed_fresh() {
-    let (mut h, ipc, source) = harness("stale");
+    let (mut h, ipc, source) = table_harness("stale");
     start_all(&mut h, &source);
     let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
     wait_ready(&mut client, &h);
@@ -174,7 +138,7 @@ fn a_killed_feed_makes_answers_stale_and_a_restarted_feed_fresh() {
 
 #[test]
 fn a_restarted_matcher_is_reached_again_by_the_same_client() {
-    let (mut h, ipc, source) = harness("restart");
+    let (mut h, ipc, source) = table_harness("restart");
     start_all(&mut h, &source);
     let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
     wait_ready(&mut client, &h);
@@ -199,7 +163,7 @@ fn a_restarted_matcher_is_reached_again_by_the_same_client() {
 
 #[test]
 fn sigterm_stops_every_service_cleanly_and_nothing_blocks_the_next_start() {
-    let (mut h, ipc, source) = harness("term");
+    let (mut h, ipc, source) = table_harness("term");
     start_all(&mut h, &source);
     {
         let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();

@@ -40,6 +40,14 @@ pub enum Command {
     /// Run the three services with synthetic feeds, point at known objects,
     /// check every answer against the truth, and print a summary.
     Demo(DemoArgs),
+    /// Run the three services under load for a while (synthetic feeds at
+    /// --feed-rate, queries at --query-rate) and report what was lost:
+    /// snapshots published, received and rejected by reason; queries
+    /// answered, by status, timed out; round trips p50/p99/p99.9/max; the
+    /// matcher's resident memory after warm-up (first answer and first
+    /// solve done) and at the end, so that growth means a leak. Exit code 1
+    /// if a service dies.
+    Soak(SoakArgs),
     /// Record what the feeds publish (snapshots of both views, pointing
     /// rays) into a file that a feed can replay (--source recording:FILE).
     Record(RecordArgs),
@@ -288,6 +296,35 @@ pub struct DemoArgs {
     #[arg(long)]
     pub json: bool,
     /// Configuration file; the demo runs the services under its own
+    /// iceoryx2 root path and prefix whatever its [ipc] says.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct SoakArgs {
+    /// How long to send queries after warm-up, e.g. 20s, 10m.
+    #[arg(long, value_name = "D", default_value = "60s", value_parser = crate::duration::parse_duration)]
+    pub duration: std::time::Duration,
+    /// Objects in the synthetic world (default: drawn per class as the
+    /// [feeds] preset says).
+    #[arg(long, value_name = "N")]
+    pub objects: Option<usize>,
+    /// Snapshots per second of each feed.
+    #[arg(long, value_name = "HZ", default_value_t = 100.0, value_parser = positive_rate)]
+    pub feed_rate: f64,
+    /// Queries per second, one at a time (a query that takes longer than
+    /// the period delays the next).
+    #[arg(long, value_name = "HZ", default_value_t = 500.0, value_parser = positive_rate)]
+    pub query_rate: f64,
+    /// One query's time limit, milliseconds; a query without an answer by
+    /// then counts as a timeout.
+    #[arg(long, value_name = "MS", default_value_t = 1000)]
+    pub timeout_ms: u64,
+    /// Print only the summary, as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file; the soak runs the services under its own
     /// iceoryx2 root path and prefix whatever its [ipc] says.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,

@@ -151,7 +151,7 @@ impl Summary {
     }
 }
 
-fn now_s() -> f64 {
+pub(crate) fn now_s() -> f64 {
     now_ns() as f64 / 1e9
 }
 
@@ -174,7 +174,7 @@ fn query_loop(args: &DemoArgs, config: &Config, world: &LiveWorld) -> anyhow::Re
                 .then_some(gesture.robot_id);
             summary.queries += 1;
             let asked = Instant::now();
-            match ask(&mut client, &gesture) {
+            match ask(&mut client, &gesture, QUERY_TIMEOUT) {
                 Ok(answer) => {
                     let rtt = u64::try_from(asked.elapsed().as_micros()).unwrap_or(u64::MAX);
                     let right = is_right(&answer, expected);
@@ -200,13 +200,15 @@ fn query_loop(args: &DemoArgs, config: &Config, world: &LiveWorld) -> anyhow::Re
     Ok(summary)
 }
 
-fn ask(
+/// Asks which robot object gesture `g` points at.
+pub(crate) fn ask(
     client: &mut ReferenceClient,
     g: &Gesture,
+    timeout: Duration,
 ) -> Result<ReferenceAnswer, vref_wire::ipc::IpcError> {
     let origin = g.origin.coords.map(|v| v as f32).into();
     let direction = g.direction.map(|v| v as f32).into();
-    client.by_ray(origin, direction, g.cone_half_angle as f32, QUERY_TIMEOUT)
+    client.by_ray(origin, direction, g.cone_half_angle as f32, timeout)
 }
 
 /// Right means: the robot object the person pointed at, or `no_match`
@@ -246,7 +248,7 @@ fn wait_ready(client: &mut ReferenceClient, world: &LiveWorld) -> anyhow::Result
     let deadline = Instant::now() + READY_WITHIN;
     while Instant::now() < deadline {
         if let Some(g) = world.gesture(now_s())
-            && let Ok(answer) = ask(client, &g)
+            && let Ok(answer) = ask(client, &g, QUERY_TIMEOUT)
             && !matches!(
                 answer.status(),
                 AnswerStatus::NotReady | AnswerStatus::Stale

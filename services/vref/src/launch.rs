@@ -1,6 +1,6 @@
 //! Child service processes under their own iceoryx2 root path and prefix,
 //! for commands that run the whole system themselves (`vref demo`,
-//! `vref bench query`).
+//! `vref bench query`, `vref soak`).
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -100,6 +100,22 @@ impl Services {
         tracing::info!(service = %name, pid = child.id(), "started");
         self.children.push((name.to_owned(), child));
         Ok(())
+    }
+
+    /// Services that have exited on their own, with how.
+    pub fn exited(&mut self) -> Vec<String> {
+        self.children
+            .iter_mut()
+            .filter_map(|(name, child)| match child.try_wait() {
+                Ok(Some(status)) => Some(format!("{name} exited with {status}")),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// What service `name` logged so far.
+    pub fn log(&self, name: &str) -> String {
+        std::fs::read_to_string(self.logs.join(format!("{name}.log"))).unwrap_or_default()
     }
 
     /// SIGTERM to each, then waits; a service that does not stop in time

@@ -20,6 +20,7 @@ mod progress;
 mod query;
 mod record;
 mod scenes;
+mod soak;
 mod stdout;
 mod sweep;
 mod table;
@@ -51,6 +52,7 @@ fn main() -> ExitCode {
         Command::Record(args) => record::run(&args),
         Command::Inject(args) => inject::run(&args),
         Command::Demo(args) => demo::run(&args),
+        Command::Soak(args) => soak::run(&args),
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),

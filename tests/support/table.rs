@@ -1,0 +1,47 @@
+//! The six-object table scene of `vref inject --kind valid` as a dataset
+//! file, for feeds that must publish a scene whose answers are known.
+#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use vref_inject::{VALID_FEATURE_DIM, robot_id, valid_objects};
+use vref_scene::Side;
+use vref_wire::ipc::IpcSettings;
+
+use super::processes::Harness;
+
+/// The six-object table of `vref inject --kind valid`, as a dataset line:
+/// each view's objects with their features, and the truth.
+pub fn dataset() -> String {
+    let view = |side| -> Vec<serde_json::Value> {
+        valid_objects(side)
+            .iter()
+            .map(|o| {
+                serde_json::json!({
+                    "id": o.track_id,
+                    "position": o.position.map(f64::from),
+                    "feature": o.feature[..VALID_FEATURE_DIM].to_vec(),
+                })
+            })
+            .collect()
+    };
+    let truth: Vec<_> = valid_objects(Side::Human)
+        .iter()
+        .map(|o| [o.track_id, robot_id(o.track_id)])
+        .collect();
+    let line = serde_json::json!({
+        "name": "table",
+        "robot": {"objects": view(Side::Robot)},
+        "human": {"objects": view(Side::Human)},
+        "ground_truth": truth,
+    });
+    format!("{line}\n")
+}
+
+/// A harness whose feeds can publish the table (`--source` is the third
+/// value), with the ipc settings its configuration holds.
+pub fn table_harness(tag: &str) -> (Harness, IpcSettings, String) {
+    let h = Harness::new(tag, "[matching]\nbeta = 0.01\n");
+    let scene = h.dir.path().join("table.jsonl");
+    std::fs::write(&scene, dataset()).unwrap();
+    let config = vref_config::Config::from_file(&h.config).unwrap();
+    (h, config.ipc, format!("dataset:{}", scene.display()))
+}
