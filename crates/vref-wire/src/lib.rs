@@ -9,6 +9,7 @@
 //! publishers and the client library that robot tasks link.
 
 mod error;
+pub mod fuzz_input;
 pub mod ipc;
 mod messages;
 mod snapshot;
