@@ -76,6 +76,32 @@ fn a_20_s_soak_at_100_hz_feeds_and_500_hz_queries_loses_nothing() {
     assert!(rtt("rtt_p999_us") <= rtt("rtt_max_us"), "{s}");
 }
 
+#[test]
+fn soak_help_names_its_flags_and_bad_rates_are_usage_errors() {
+    let run = support::vref(&["soak", "--help"], Duration::from_secs(30)).ok();
+    for flag in [
+        "--duration",
+        "--objects",
+        "--feed-rate",
+        "--query-rate",
+        "--timeout-ms",
+        "--json",
+        "warm-up",
+    ] {
+        assert!(run.stdout.contains(flag), "soak --help lacks {flag}");
+    }
+    for bad in [
+        ["--query-rate", "0"],
+        ["--feed-rate", "-5"],
+        ["--timeout-ms", "0"],
+        ["--duration", "soon"],
+    ] {
+        let args = ["soak", bad[0], bad[1]];
+        let run = support::vref(&args, Duration::from_secs(30));
+        assert_eq!(run.code, Some(2), "{args:?}: {}", run.stderr);
+    }
+}
+
 /// What the background load saw in one phase of the fault test.
 #[derive(Debug, Default, Clone)]
 struct Counts {

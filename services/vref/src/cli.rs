@@ -319,7 +319,7 @@ pub struct SoakArgs {
     pub query_rate: f64,
     /// One query's time limit, milliseconds; a query without an answer by
     /// then counts as a timeout.
-    #[arg(long, value_name = "MS", default_value_t = 1000)]
+    #[arg(long, value_name = "MS", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(1..))]
     pub timeout_ms: u64,
     /// Print only the summary, as one JSON object.
     #[arg(long)]
