@@ -180,15 +180,22 @@ impl Engine {
         if m == 0 {
             return Err(MatchError::EmptyGraph { side: "robot" });
         }
-        let problem = match self.tier {
+        let mut problem = match self.tier {
             Tier::Exact => Problem {
                 n,
                 m,
                 appearance: self.appearance.clone(),
                 spatial: SpatialTerm::Edges(self.exact_spatial()),
+                human_positions: Vec::new(),
+                robot_positions: Vec::new(),
             },
             Tier::Live => Problem::pruned(n, m, self.appearance.clone(), self.live_spatial()),
         };
+        // `rigid` works on positions (both tiers).
+        let points =
+            |objects: &[view::Tracked]| objects.iter().map(|o| o.position.into()).collect();
+        problem.human_positions = points(&self.human.objects);
+        problem.robot_positions = points(&self.robot.objects);
         let warm = match self.tier {
             Tier::Exact => None,
             Tier::Live => self.warm_start(),
