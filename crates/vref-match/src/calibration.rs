@@ -6,8 +6,9 @@ use serde::{Deserialize, Serialize};
 /// Bins of [`expected_calibration_error`]'s default use (`vref eval`).
 pub const ECE_BINS: usize = 10;
 
-/// A logistic map `p = 1 / (1 + exp(-(bias + slope * logit(raw) + fit_weight * fit)))`
-/// from a raw row share and the scene's fit quality to a probability.
+/// A logistic map `p = 1 / (1 + exp(-(bias + slope * logit(raw) + no_partner_shift * [no partner])))`
+/// from a raw row share to a probability; answers "no partner" get their
+/// own offset, since their share comes from a different part of the model.
 /// The constants are fitted on training seeds by
 /// `tools/fit-calibration.py` (see its header for the command).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -15,16 +16,17 @@ pub const ECE_BINS: usize = 10;
 pub struct Calibration {
     pub bias: f64,
     pub slope: f64,
-    pub fit_weight: f64,
+    pub no_partner_shift: f64,
 }
 
 impl Default for Calibration {
     fn default() -> Self {
-        // Fitted by tools/fit-calibration.py on moi and mrc seeds 100-109.
+        // Fitted by `python3 tools/fit-calibration.py --seeds 100-109`
+        // (moi and mrc, 30 scenes per seed, 5875 answers).
         Self {
-            bias: 0.0,
-            slope: 1.0,
-            fit_weight: 0.0,
+            bias: 2.7767,
+            slope: 0.3827,
+            no_partner_shift: -2.4596,
         }
     }
 }
@@ -34,12 +36,16 @@ impl Default for Calibration {
 const SHARE_EPS: f64 = 1e-6;
 
 impl Calibration {
-    /// The probability that an answer with row share `raw` (in [0, 1]) in
-    /// a scene of fit quality `fit` (in [0, 1]) is right.
-    pub fn probability(&self, raw: f64, fit: f64) -> f64 {
+    /// The probability that an answer with row share `raw` (in [0, 1]) is
+    /// right; `no_partner` when the answer is "no partner".
+    pub fn probability(&self, raw: f64, no_partner: bool) -> f64 {
         let raw = if raw.is_finite() { raw } else { 0.0 };
-        let fit = if fit.is_finite() { fit } else { 0.0 };
-        let z = self.bias + self.slope * logit(raw) + self.fit_weight * fit;
+        let shift = if no_partner {
+            self.no_partner_shift
+        } else {
+            0.0
+        };
+        let z = self.bias + self.slope * logit(raw) + shift;
         1.0 / (1.0 + (-z).exp())
     }
 }

@@ -30,9 +30,7 @@ pub struct RigidParams {
     /// together with the range a camera works at (centimetres on a table,
     /// decimetres on a floor), so one factor serves both.
     pub sigma_factor: f64,
-    /// Whether sigma is re-estimated from the residuals of the assigned
-    /// pairs at each refinement (within half and twice its start).
-    pub adapt_sigma: bool,
+
     /// Cost of leaving a human object without a partner, in the units of
     /// the pair cost `-ln(appearance likelihood) + r^2 / (2 sigma^2)`.
     pub unmatched_cost: f64,
@@ -45,6 +43,16 @@ pub struct RigidParams {
     pub local_optimisations: usize,
     /// Re-fits of the motion on the assigned pairs after the search.
     pub refinements: usize,
+    /// Score difference (in nats: scores are log-likelihood gains) that
+    /// makes the best motion e times likelier than the runner-up.
+    pub motion_temperature: f64,
+    /// A partner whose raw share (its row's softmax share, times the best
+    /// motion's probability where the runner-up pairs the row otherwise)
+    /// is below this is not given: the object is answered "no partner".
+    pub abstain_share: f64,
+    /// Refuse motions that put the two cameras on opposite sides of the
+    /// plane the objects stand on (see `Side`).
+    pub same_side: bool,
     /// Seed of the hypothesis sampler (answers are deterministic).
     pub seed: u64,
     /// Raw row share and fit quality to probability.
@@ -58,11 +66,13 @@ impl Default for RigidParams {
             candidates: 6,
             hypotheses: 200,
             sigma_factor: 0.4,
-            adapt_sigma: false,
             unmatched_cost: 4.5,
             decisive_share: 0.8,
             local_optimisations: 8,
             refinements: 3,
+            motion_temperature: 2.0,
+            abstain_share: 0.65,
+            same_side: true,
             seed: 0x5eed,
             calibration: Calibration::default(),
         }
@@ -76,6 +86,7 @@ impl RigidParams {
             ("rigid.sigma_factor", self.sigma_factor),
             ("rigid.unmatched_cost", self.unmatched_cost),
             ("rigid.decisive_share", self.decisive_share),
+            ("rigid.motion_temperature", self.motion_temperature),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(MatchError::BadParameter {
@@ -97,8 +108,15 @@ impl RigidParams {
                 });
             }
         }
+        if !(0.0..=1.0).contains(&self.abstain_share) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.abstain_share",
+                value: self.abstain_share,
+                expected: "in [0, 1]",
+            });
+        }
         let c = &self.calibration;
-        if ![c.bias, c.slope, c.fit_weight]
+        if ![c.bias, c.slope, c.no_partner_shift]
             .iter()
             .all(|v| v.is_finite())
         {
@@ -192,11 +210,11 @@ impl<'a> Costs<'a> {
 pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     let rp = &params.rigid;
     let (n, m) = (problem.n, problem.m);
-    let sigma0 = rp.sigma_factor * spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
+    let sigma = rp.sigma_factor * spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
     let log_g = appearance_log_likelihood(problem, rp.appearance_temperature);
-    let mut costs = Costs::new(problem, &log_g, sigma0);
-    let sigma = sigma0;
-    let mut motion = search(&costs, sigma, rp);
+    let costs = Costs::new(problem, &log_g, sigma);
+    let found = search(&costs, sigma, rp);
+    let mut motion = found.as_ref().map(|f| f.motion);
     let mut cost = costs.matrix(motion.as_ref());
     let mut assignment = assign(&cost, n, m, rp.unmatched_cost);
     let mut iterations = 0;
@@ -207,11 +225,6 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
             let Some(refit) = fit_assigned(problem, &assignment) else {
                 break;
             };
-            if rp.adapt_sigma {
-                let s =
-                    residual_sigma(problem, &refit, &assignment).clamp(0.5 * sigma0, 2.0 * sigma0);
-                costs.inv_two_sigma2 = 1.0 / (2.0 * s * s);
-            }
             motion = Some(refit);
             cost = costs.matrix(motion.as_ref());
             let next = assign(&cost, n, m, rp.unmatched_cost);
@@ -224,19 +237,42 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         }
     }
     let (soft, unmatched) = row_shares(&cost, n, m, rp.unmatched_cost);
-    let matched = assignment.iter().filter(|a| a.is_some()).count();
-    let fit = matched as f64 / n.min(m).max(1) as f64;
-    let confidence = assignment
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            let raw = match a {
+
+    // The runner-up motion: where it pairs a row differently, that row's
+    // answer is only as sure as the best motion is against it.
+    let (p_best, alternative) = match &found {
+        Some(f) => match f.alternative {
+            Some((score, alt)) => {
+                let p = 1.0 / (1.0 + (-(f.score - score) / rp.motion_temperature).exp());
+                let alt_assignment = (p < 1.0 - 1e-9)
+                    .then(|| assign(&costs.matrix(Some(&alt)), n, m, rp.unmatched_cost));
+                (p, alt_assignment)
+            }
+            None => (1.0, None),
+        },
+        None => (1.0, None),
+    };
+    let mut confidence = Vec::with_capacity(n);
+    for i in 0..n {
+        let agrees = alternative
+            .as_ref()
+            .is_none_or(|alt| alt[i] == assignment[i]);
+        let motion_share = if agrees { 1.0 } else { p_best };
+        let mut raw = motion_share
+            * match assignment[i] {
                 Some(j) => soft[i * m + j],
                 None => unmatched[i],
             };
-            rp.calibration.probability(raw, fit)
-        })
-        .collect();
+        // Abstaining: a partner this unsure is not given (precision); the
+        // object is answered "no partner" with that answer's share. Decided
+        // on the raw share, so that the calibration is fitted to the
+        // answers as finally given.
+        if assignment[i].is_some() && raw < rp.abstain_share {
+            assignment[i] = None;
+            raw = unmatched[i];
+        }
+        confidence.push(rp.calibration.probability(raw, assignment[i].is_none()));
+    }
     Solution {
         soft,
         assignment,
@@ -261,7 +297,7 @@ fn appearance_log_likelihood(problem: &Problem, temperature: f64) -> Vec<f64> {
 /// The best-scoring proper motion among hypotheses fitted to three
 /// distance-consistent candidate pairs; `None` when either view has fewer
 /// than three objects or no sample is consistent.
-fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<RigidMotion> {
+fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
     let problem = costs.problem;
     let (n, m) = (problem.n, problem.m);
     if n < 3 || m < 3 {
@@ -284,6 +320,9 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<RigidMotion
     let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
     let mut consistent: Vec<usize> = Vec::with_capacity(m);
     let mut scratch = Scratch::default();
+    let side = Side::of(rpos);
+    let probes = probe_points(hp);
+    let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, 2.0 * sigma);
     // A motion that explains nearly every object nearly perfectly leaves
     // nothing for further hypotheses to find.
     let decisive = rp.decisive_share * rp.unmatched_cost * n.min(m) as f64;
@@ -320,6 +359,9 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<RigidMotion
         let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
             continue;
         };
+        if rp.same_side && !side.allows(&motion) {
+            continue;
+        }
         scored += 1;
         // Only a hypothesis that can enter the kept few is scored fully.
         let keep = rp.local_optimisations.max(1);
@@ -329,7 +371,7 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<RigidMotion
             top.last().map_or(f64::NEG_INFINITY, |(s, _)| *s)
         };
         if let Some((score, _)) = greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch) {
-            keep_best(&mut top, keep, score, motion);
+            keep_best(&mut top, keep, score, motion, same);
             if score >= decisive {
                 break;
             }
@@ -338,7 +380,7 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<RigidMotion
     // Local optimisation: a motion fitted to three noisy pairs is only
     // roughly right, so the best few are re-fitted to the pairs they
     // explain before they are compared.
-    let mut best: Option<(f64, RigidMotion)> = None;
+    let mut refined: Vec<(f64, RigidMotion)> = Vec::with_capacity(top.len());
     for (mut score, mut motion) in top {
         for _ in 0..LOCAL_REFITS {
             let Some((_, pairs)) = greedy(
@@ -363,21 +405,59 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<RigidMotion
             }
             (score, motion) = (refit_score, refit);
         }
-        if best.as_ref().is_none_or(|(b, _)| score > *b) {
-            best = Some((score, motion));
-        }
+        refined.push((score, motion));
     }
-    best.map(|(_, motion)| motion)
+    refined.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let (score, motion) = *refined.first()?;
+    let alternative = refined
+        .iter()
+        .skip(1)
+        .find(|(_, other)| !same(&motion, other))
+        .copied();
+    Some(Found {
+        motion,
+        score,
+        alternative,
+    })
 }
 
-/// Inserts `(score, motion)` into `top`, which holds the `k` best so far,
-/// best first.
-fn keep_best(top: &mut Vec<(f64, RigidMotion)>, k: usize, score: f64, motion: RigidMotion) {
+/// The search's answer: the best motion, its score, and the best motion
+/// that pairs objects differently, with its score.
+struct Found {
+    motion: RigidMotion,
+    score: f64,
+    alternative: Option<(f64, RigidMotion)>,
+}
+
+/// Inserts `(score, motion)` into `top`, which holds the `k` best
+/// distinct motions so far, best first: a motion that places the probe
+/// points like one already held replaces it only when it scores higher.
+fn keep_best(
+    top: &mut Vec<(f64, RigidMotion)>,
+    k: usize,
+    score: f64,
+    motion: RigidMotion,
+    same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
+) {
+    if let Some(at) = top.iter().position(|(_, held)| same(held, &motion)) {
+        if top[at].0 >= score {
+            return;
+        }
+        top.remove(at);
+    }
     let at = top.partition_point(|(s, _)| *s >= score);
     if at < k {
         top.insert(at, (score, motion));
         top.truncate(k);
     }
+}
+
+/// Whether two motions place every probe point within `tolerance` of
+/// each other (they name the same correspondences).
+fn same_motion(a: &RigidMotion, b: &RigidMotion, probes: &[Point3<f64>], tolerance: f64) -> bool {
+    probes
+        .iter()
+        .all(|p| (a.apply(p) - b.apply(p)).norm_squared() <= tolerance * tolerance)
 }
 
 /// How well `motion` explains the scene: each human object's best pair
@@ -490,6 +570,85 @@ fn candidate_columns(log_g: &[f64], n: usize, m: usize, k: usize) -> Vec<Vec<usi
         .collect()
 }
 
+/// Both cameras look at the objects from the same side of the surface
+/// they stand on (a table top, a floor). When the robot view's objects lie
+/// near a plane with the robot camera clearly off it, a motion that puts
+/// the human camera on the other side is a mirror of the scene through
+/// that plane, and is refused. Says nothing for scenes far from planar or
+/// cameras in their plane (image coordinates with z = 0).
+struct Side {
+    plane: Option<(Point3<f64>, nalgebra::Vector3<f64>)>,
+}
+
+impl Side {
+    /// Smallest spread of the objects across the plane, as a share of the
+    /// next smallest, below which the scene counts as planar.
+    const FLATNESS: f64 = 0.25;
+
+    fn of(points: &[Point3<f64>]) -> Self {
+        let none = Self { plane: None };
+        if points.len() < 3 {
+            return none;
+        }
+        let c = points
+            .iter()
+            .fold(nalgebra::Vector3::zeros(), |c, p| c + p.coords)
+            / points.len() as f64;
+        let cov = points.iter().fold(nalgebra::Matrix3::zeros(), |acc, p| {
+            let d = p.coords - c;
+            acc + d * d.transpose()
+        }) / points.len() as f64;
+        let eig = cov.symmetric_eigen();
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+        let (low, mid) = (eig.eigenvalues[order[0]], eig.eigenvalues[order[1]]);
+        if !(mid > 0.0 && low.max(0.0).sqrt() <= Self::FLATNESS * mid.sqrt()) {
+            return none;
+        }
+        let mut normal = eig.eigenvectors.column(order[0]).into_owned();
+        // Orient the normal towards the robot camera (the origin).
+        let camera = -normal.dot(&c);
+        if camera.abs() <= 3.0 * mid.sqrt() * Self::FLATNESS {
+            return none;
+        }
+        if camera < 0.0 {
+            normal = -normal;
+        }
+        Self {
+            plane: Some((Point3::from(c), normal)),
+        }
+    }
+
+    /// Whether `motion` keeps the human camera (its origin) on the robot
+    /// camera's side of the plane.
+    fn allows(&self, motion: &RigidMotion) -> bool {
+        self.plane
+            .is_none_or(|(c, normal)| normal.dot(&(motion.apply(&Point3::origin()) - c)) > 0.0)
+    }
+}
+
+/// The human view's extreme points along each axis and its centroid:
+/// where two motions that pair objects differently disagree most.
+fn probe_points(points: &[Point3<f64>]) -> Vec<Point3<f64>> {
+    let mut probes = Vec::with_capacity(7);
+    if points.is_empty() {
+        return probes;
+    }
+    let centroid = points
+        .iter()
+        .fold(nalgebra::Vector3::zeros(), |c, p| c + p.coords)
+        / points.len() as f64;
+    probes.push(Point3::from(centroid));
+    for axis in 0..3 {
+        let by = |a: &&Point3<f64>, b: &&Point3<f64>| a[axis].total_cmp(&b[axis]);
+        if let (Some(lo), Some(hi)) = (points.iter().min_by(by), points.iter().max_by(by)) {
+            probes.push(*lo);
+            probes.push(*hi);
+        }
+    }
+    probes
+}
+
 /// Median distance from each robot object to its nearest neighbour;
 /// `None` below two objects or when all coincide.
 fn spacing(points: &[Point3<f64>]) -> Option<f64> {
@@ -511,26 +670,6 @@ fn spacing(points: &[Point3<f64>]) -> Option<f64> {
     nearest.sort_by(f64::total_cmp);
     let median = nearest[nearest.len() / 2];
     (median.is_finite() && median > 0.0).then_some(median)
-}
-
-/// Per-axis standard deviation of the assigned pairs' residuals under
-/// `motion` (3D residuals: mean squared norm / 3).
-fn residual_sigma(problem: &Problem, motion: &RigidMotion, assignment: &[Option<usize>]) -> f64 {
-    let (sum, k) = assignment
-        .iter()
-        .enumerate()
-        .filter_map(|(i, a)| {
-            a.map(|j| {
-                (motion.apply(&problem.human_positions[i]) - problem.robot_positions[j])
-                    .norm_squared()
-            })
-        })
-        .fold((0.0, 0usize), |(s, k), r2| (s + r2, k + 1));
-    if k == 0 {
-        0.0
-    } else {
-        (sum / (3.0 * k as f64)).sqrt()
-    }
 }
 
 /// The motion re-fitted to the assigned pairs; `None` below three pairs.
