@@ -94,7 +94,13 @@ proptest! {
         let pair = without_robot(&full, keep.min(n));
         for method in Method::ALL {
             let pairs = id_pairs(method, &pair);
-            prop_assert_eq!(pairs.len(), pair.human.len().min(pair.robot.len()));
+            let most = pair.human.len().min(pair.robot.len());
+            if method == Method::Rigid {
+                // `rigid` may leave objects without a partner.
+                prop_assert!(pairs.len() <= most);
+            } else {
+                prop_assert_eq!(pairs.len(), most);
+            }
             let mut humans: Vec<u64> = pairs.iter().map(|p| p.0).collect();
             let mut robots: Vec<u64> = pairs.iter().map(|p| p.1).collect();
             humans.dedup();

@@ -46,9 +46,10 @@ pub struct RigidParams {
     /// Score difference (in nats: scores are log-likelihood gains) that
     /// makes the best motion e times likelier than the runner-up.
     pub motion_temperature: f64,
-    /// A partner whose raw share (its row's softmax share, times the best
-    /// motion's probability where the runner-up pairs the row otherwise)
+    /// A partner that the runner-up motion pairs otherwise and whose raw
+    /// share (its row's softmax share times the best motion's probability)
     /// is below this is not given: the object is answered "no partner".
+    /// 0 never abstains.
     pub abstain_share: f64,
     /// Refuse motions that put the two cameras on opposite sides of the
     /// plane the objects stand on (see `Side`).
@@ -263,11 +264,11 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
                 Some(j) => soft[i * m + j],
                 None => unmatched[i],
             };
-        // Abstaining: a partner this unsure is not given (precision); the
-        // object is answered "no partner" with that answer's share. Decided
-        // on the raw share, so that the calibration is fitted to the
-        // answers as finally given.
-        if assignment[i].is_some() && raw < rp.abstain_share {
+        // Abstaining: a partner the runner-up motion disputes and that is
+        // this unsure is not given (precision); the object is answered "no
+        // partner" with that answer's share. Decided on the raw share, so
+        // that the calibration is fitted to the answers as finally given.
+        if assignment[i].is_some() && !agrees && raw < rp.abstain_share {
             assignment[i] = None;
             raw = unmatched[i];
         }
