@@ -8,19 +8,20 @@ use vref_match::{
 };
 use vref_scene::{Limits, SceneGraph, SceneObject};
 
-/// Ten points spread in 3D, none symmetric to another.
+/// Ten points spread in all three dimensions (a mirror image of a nearly
+/// flat cloud is nearly a rotation of it), none symmetric to another.
 fn cloud() -> Vec<Point3<f64>> {
     [
         [0.00, 0.00, 0.00],
-        [0.31, 0.02, 0.05],
-        [0.12, 0.27, 0.01],
-        [-0.18, 0.11, 0.09],
-        [0.05, -0.22, 0.14],
-        [0.26, -0.15, 0.02],
-        [-0.09, -0.07, 0.21],
-        [0.19, 0.18, 0.17],
-        [-0.25, -0.19, 0.04],
-        [0.08, 0.36, 0.11],
+        [0.31, 0.02, 0.15],
+        [0.12, 0.27, 0.03],
+        [-0.18, 0.11, 0.27],
+        [0.05, -0.22, 0.42],
+        [0.26, -0.15, 0.06],
+        [-0.09, -0.07, 0.63],
+        [0.19, 0.18, 0.51],
+        [-0.25, -0.19, 0.12],
+        [0.08, 0.36, 0.33],
     ]
     .iter()
     .map(|p| Point3::new(p[0], p[1], p[2]))
