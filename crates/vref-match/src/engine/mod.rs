@@ -180,7 +180,15 @@ impl Engine {
         if m == 0 {
             return Err(MatchError::EmptyGraph { side: "robot" });
         }
-        let mut problem = match self.tier {
+        // `rigid` never multiplies by S and has no iterations to stop early
+        // or warm-start: the live tier's shortcuts would only prune its
+        // candidates, so it always runs as in the exact tier.
+        let tier = if self.method == Method::Rigid {
+            Tier::Exact
+        } else {
+            self.tier
+        };
+        let mut problem = match tier {
             Tier::Exact => Problem {
                 n,
                 m,
@@ -196,14 +204,13 @@ impl Engine {
             |objects: &[view::Tracked]| objects.iter().map(|o| o.position.into()).collect();
         problem.human_positions = points(&self.human.objects);
         problem.robot_positions = points(&self.robot.objects);
-        let warm = match self.tier {
+        let warm = match tier {
             Tier::Exact => None,
             Tier::Live => self.warm_start(),
         };
         let options = SolveOptions {
             warm_start: warm.as_deref(),
-            stop_when_stable: (self.tier == Tier::Live)
-                .then_some(self.params.live.stable_iterations),
+            stop_when_stable: (tier == Tier::Live).then_some(self.params.live.stable_iterations),
         };
         let params = match self.tier {
             Tier::Exact => self.params,
@@ -226,7 +233,9 @@ impl Engine {
     fn exact_spatial(&self) -> SpatialAffinity {
         let (h, r) = (&self.human, &self.robot);
         match &self.spatial {
-            Some(SpatialTerm::Edges(previous)) if self.method != Method::Appearance => {
+            Some(SpatialTerm::Edges(previous))
+                if !matches!(self.method, Method::Appearance | Method::Rigid) =>
+            {
                 SpatialAffinity::updated(
                     previous,
                     &self.human_in_spatial,
