@@ -309,15 +309,8 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
     let rpos = &problem.robot_positions;
     // Distances may disagree by the noise of two positions on each side.
     let tolerance = 3.0 * sigma;
-    let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
-        let dh = (hp[i] - hp[j]).norm();
-        let dr = (rpos[a] - rpos[b]).norm();
-        i != j && a != b && dh > tolerance && (dh - dr).abs() <= tolerance
-    };
     let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
     let mut top: Vec<(f64, RigidMotion)> = Vec::new();
-    let mut scored = 0;
-    let mut attempts = 0;
     let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
     let mut consistent: Vec<usize> = Vec::with_capacity(m);
     let mut scratch = Scratch::default();
@@ -327,54 +320,71 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
     // A motion that explains nearly every object nearly perfectly leaves
     // nothing for further hypotheses to find.
     let decisive = rp.decisive_share * rp.unmatched_cost * n.min(m) as f64;
-    while scored < rp.hypotheses && attempts < max_attempts {
-        attempts += 1;
-        // Guided sampling: the second and third pairs are drawn only among
-        // the candidates whose distances agree with the pairs drawn before,
-        // so that a right first pair is likely to grow into a right sample
-        // even when a row has many look-alike candidates.
-        let i = rng.below(n);
-        let first = (i, candidates[i][rng.below(candidates[i].len())]);
-        let mut s = [first; 3];
-        let mut complete = true;
-        for k in 1..3 {
-            let row = rng.below(n);
-            consistent.clear();
-            consistent.extend(
-                candidates[row]
-                    .iter()
-                    .copied()
-                    .filter(|&col| s[..k].iter().all(|&p| fits(p, (row, col)))),
-            );
-            if consistent.is_empty() {
-                complete = false;
-                break;
+    // Sample edges shorter than the tolerance give poorly determined
+    // rotations and are avoided, unless a sparse scene has too few samples
+    // without them to fill the kept few.
+    let keep = rp.local_optimisations.max(1);
+    for min_edge in [tolerance, 0.0] {
+        if top.len() >= keep {
+            break;
+        }
+        let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
+            let dh = (hp[i] - hp[j]).norm();
+            let dr = (rpos[a] - rpos[b]).norm();
+            i != j && a != b && dh > min_edge && (dh - dr).abs() <= tolerance
+        };
+        let mut scored = 0;
+        let mut attempts = 0;
+        while scored < rp.hypotheses && attempts < max_attempts {
+            attempts += 1;
+            // Guided sampling: the second and third pairs are drawn only among
+            // the candidates whose distances agree with the pairs drawn before,
+            // so that a right first pair is likely to grow into a right sample
+            // even when a row has many look-alike candidates.
+            let i = rng.below(n);
+            let first = (i, candidates[i][rng.below(candidates[i].len())]);
+            let mut s = [first; 3];
+            let mut complete = true;
+            for k in 1..3 {
+                let row = rng.below(n);
+                consistent.clear();
+                consistent.extend(
+                    candidates[row]
+                        .iter()
+                        .copied()
+                        .filter(|&col| s[..k].iter().all(|&p| fits(p, (row, col)))),
+                );
+                if consistent.is_empty() {
+                    complete = false;
+                    break;
+                }
+                s[k] = (row, consistent[rng.below(consistent.len())]);
             }
-            s[k] = (row, consistent[rng.below(consistent.len())]);
-        }
-        if !complete {
-            continue;
-        }
-        let from = s.map(|(i, _)| hp[i]);
-        let to = s.map(|(_, j)| rpos[j]);
-        let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
-            continue;
-        };
-        if rp.same_side && !side.allows(&motion) {
-            continue;
-        }
-        scored += 1;
-        // Only a hypothesis that can enter the kept few is scored fully.
-        let keep = rp.local_optimisations.max(1);
-        let beat = if top.len() < keep {
-            f64::NEG_INFINITY
-        } else {
-            top.last().map_or(f64::NEG_INFINITY, |(s, _)| *s)
-        };
-        if let Some((score, _)) = greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch) {
-            keep_best(&mut top, keep, score, motion, same);
-            if score >= decisive {
-                break;
+            if !complete {
+                continue;
+            }
+            let from = s.map(|(i, _)| hp[i]);
+            let to = s.map(|(_, j)| rpos[j]);
+            let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
+                continue;
+            };
+            if rp.same_side && !side.allows(&motion) {
+                continue;
+            }
+            scored += 1;
+            // Only a hypothesis that can enter the kept few is scored fully.
+            let keep = rp.local_optimisations.max(1);
+            let beat = if top.len() < keep {
+                f64::NEG_INFINITY
+            } else {
+                top.last().map_or(f64::NEG_INFINITY, |(s, _)| *s)
+            };
+            if let Some((score, _)) = greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch)
+            {
+                keep_best(&mut top, keep, score, motion, same);
+                if score >= decisive {
+                    break;
+                }
             }
         }
     }
