@@ -52,11 +52,11 @@ fn eval_json_has_one_object_per_method_with_the_contract_fields() {
         .iter()
         .map(|v| v["method"].as_str().unwrap())
         .collect();
-    assert_eq!(methods, ["appearance", "sm", "rrwm", "paper"]);
+    assert_eq!(methods, ["appearance", "sm", "rrwm", "paper", "rigid"]);
     for v in &lines {
         assert_eq!(v["dataset"], data.as_str());
         assert_eq!(v["scenes"], 1);
-        for field in ["accuracy", "precision", "recall", "mean_solve_us"] {
+        for field in ["accuracy", "precision", "recall", "mean_solve_us", "ece"] {
             assert!(v[field].as_f64().is_some(), "{field} missing in {v}");
         }
     }

@@ -3,8 +3,8 @@ use std::time::{Duration, Instant};
 use vref_scene::ScenePair;
 
 use crate::{
-    MatchError, Method, Params, Problem, SceneScore, SolveOptions, Summary, Tier, score_scene,
-    solve_with,
+    ECE_BINS, MatchError, Method, Params, Problem, SceneScore, SolveOptions, Summary, Tier,
+    expected_calibration_error, score_scene, solve_with,
 };
 
 /// Scores of several methods accumulated scene by scene.
@@ -15,6 +15,25 @@ pub struct Evaluation {
     methods: Vec<Method>,
     scores: Vec<Vec<SceneScore>>,
     solve_times: Vec<Duration>,
+    /// Per method, every human object's answer with its confidence.
+    answers: Vec<Vec<RowAnswer>>,
+}
+
+/// One human object's answer in one scene.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct RowAnswer {
+    /// Index of the scene in the order added.
+    pub scene: usize,
+    pub row: usize,
+    /// The method's confidence that this answer is right.
+    pub confidence: f64,
+    /// Whether it is right ("no partner" for an object without one counts).
+    pub correct: bool,
+    /// Whether the method gave the object a partner.
+    pub matched: bool,
+    /// Object counts of the scene's human and robot views.
+    pub human_objects: usize,
+    pub robot_objects: usize,
 }
 
 /// One method's result over all scenes added.
@@ -24,6 +43,9 @@ pub struct MethodReport {
     pub summary: Summary,
     /// Mean wall time of building the affinities, solving and discretising.
     pub mean_solve: Duration,
+    /// Expected calibration error of the confidence over every human
+    /// object of every scene ([`ECE_BINS`] equal-width bins).
+    pub ece: f64,
 }
 
 impl Evaluation {
@@ -35,6 +57,7 @@ impl Evaluation {
             methods: methods.to_vec(),
             scores: vec![Vec::new(); methods.len()],
             solve_times: vec![Duration::ZERO; methods.len()],
+            answers: vec![Vec::new(); methods.len()],
         })
     }
 
@@ -48,6 +71,9 @@ impl Evaluation {
     /// Matches `pair` with every method and records its scores.
     pub fn add(&mut self, pair: &ScenePair) -> Result<(), MatchError> {
         let human_ids: Vec<u64> = pair.human.objects().iter().map(|o| o.id).collect();
+        let truth: std::collections::HashMap<u64, u64> =
+            pair.ground_truth.iter().copied().collect();
+        let scene = self.scenes();
         for (k, &method) in self.methods.iter().enumerate() {
             let start = Instant::now();
             let (problem, options) = match self.tier {
@@ -70,6 +96,23 @@ impl Evaluation {
             let solution = solve_with(method, &problem, &params, options)?;
             self.solve_times[k] += start.elapsed();
             let predicted = solution.id_pairs(&pair.human, &pair.robot);
+            for (row, (a, &confidence)) in solution
+                .assignment
+                .iter()
+                .zip(&solution.confidence)
+                .enumerate()
+            {
+                let guess = a.map(|j| pair.robot.objects()[j].id);
+                self.answers[k].push(RowAnswer {
+                    scene,
+                    row,
+                    confidence,
+                    correct: guess == truth.get(&human_ids[row]).copied(),
+                    matched: a.is_some(),
+                    human_objects: pair.human.len(),
+                    robot_objects: pair.robot.len(),
+                });
+            }
             self.scores[k].push(score_scene(&human_ids, &predicted, &pair.ground_truth));
         }
         Ok(())
@@ -80,16 +123,30 @@ impl Evaluation {
         self.scores.first().map_or(0, Vec::len)
     }
 
+    /// Every human object's answer by `method`, in the order added.
+    pub fn answers(&self, method: Method) -> &[RowAnswer] {
+        self.methods
+            .iter()
+            .position(|&m| m == method)
+            .map_or(&[], |k| &self.answers[k])
+    }
+
     pub fn reports(&self) -> Vec<MethodReport> {
         let scenes = self.scenes().max(1) as u32;
         self.methods
             .iter()
             .zip(&self.scores)
             .zip(&self.solve_times)
-            .map(|((&method, scores), &total)| MethodReport {
-                method,
-                summary: Summary::from_scores(scores),
-                mean_solve: total / scenes,
+            .zip(&self.answers)
+            .map(|(((&method, scores), &total), answers)| {
+                let pairs: Vec<(f64, bool)> =
+                    answers.iter().map(|a| (a.confidence, a.correct)).collect();
+                MethodReport {
+                    method,
+                    summary: Summary::from_scores(scores),
+                    mean_solve: total / scenes,
+                    ece: expected_calibration_error(&pairs, ECE_BINS),
+                }
             })
             .collect()
     }

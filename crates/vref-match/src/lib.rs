@@ -1,7 +1,9 @@
 //! Graph matching between the human view (rows) and the robot view
 //! (columns), exactly as ../shared/ALGORITHMS.md defines it: appearance and
 //! spatial affinities, Sinkhorn with slack, exact rectangular Hungarian, the
-//! methods `appearance`, `sm`, `rrwm` and `paper`, and the metrics.
+//! methods `appearance`, `sm`, `rrwm` and `paper`, vref's own `rigid`
+//! (rigid verification, objects without a partner, calibrated confidence),
+//! and the metrics.
 //!
 //! Pure computation: no IPC, no printing, no panics on input.
 //!
@@ -11,6 +13,7 @@
 
 mod appearance;
 pub mod bench;
+mod calibration;
 mod candidates;
 mod distances;
 pub mod engine;
@@ -23,6 +26,7 @@ mod metrics;
 mod pair_kernel;
 mod params;
 mod problem;
+mod rigid;
 mod sinkhorn;
 mod solution;
 mod spatial;
@@ -30,16 +34,18 @@ mod spatial_term;
 mod tier;
 
 pub use appearance::appearance_affinity;
+pub use calibration::{Calibration, ECE_BINS, expected_calibration_error, logit};
 pub use candidates::candidate_pairs;
 pub use distances::distance_matrix;
 pub use error::MatchError;
-pub use evaluation::{Evaluation, MethodReport};
+pub use evaluation::{Evaluation, MethodReport, RowAnswer};
 pub use hungarian::{Hungarian, hungarian_max};
-pub use methods::{Method, SolveOptions, solve, solve_with};
+pub use methods::{Method, RigidParams, SolveOptions, solve, solve_with};
 pub use metrics::{SceneScore, Stat, Summary, score_scene};
 pub use pair_kernel::PairAffinity;
 pub use params::{LiveParams, PaperParams, Params, RrwmParams, SmParams};
 pub use problem::Problem;
+pub use rigid::RigidMotion;
 pub use sinkhorn::{Sinkhorn, sinkhorn_slack};
 pub use solution::Solution;
 pub use spatial::SpatialAffinity;

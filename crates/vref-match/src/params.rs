@@ -1,6 +1,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::MatchError;
+use crate::RigidParams;
 
 /// Every constant of ALGORITHMS.md, with its defaults.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -17,6 +18,7 @@ pub struct Params {
     pub paper: PaperParams,
     /// Shortcuts of the live tier (unused by the exact tier).
     pub live: LiveParams,
+    pub rigid: RigidParams,
 }
 
 /// Spectral matching's power iteration.
@@ -100,6 +102,7 @@ impl Default for Params {
             rrwm: RrwmParams::default(),
             paper: PaperParams::default(),
             live: LiveParams::default(),
+            rigid: RigidParams::default(),
         }
     }
 }
@@ -157,6 +160,7 @@ impl Params {
         unit("paper.alpha", self.paper.alpha)?;
         unit("paper.lambda1", self.paper.lambda1)?;
         unit("paper.lambda2", self.paper.lambda2)?;
+        self.rigid.validate()?;
         // exp(amplification) must stay finite after Sinkhorn's products.
         if !(self.rrwm.amplification > 0.0 && self.rrwm.amplification <= 300.0) {
             return Err(MatchError::BadParameter {

@@ -1,3 +1,4 @@
+use nalgebra::Point3;
 use vref_scene::SceneGraph;
 
 use crate::{
@@ -13,6 +14,10 @@ pub struct Problem {
     pub m: usize,
     pub appearance: Vec<f64>,
     pub spatial: SpatialTerm,
+    /// Positions of the human objects (rows), in the human camera frame.
+    pub human_positions: Vec<Point3<f64>>,
+    /// Positions of the robot objects (columns), in the robot camera frame.
+    pub robot_positions: Vec<Point3<f64>>,
 }
 
 impl Problem {
@@ -27,6 +32,8 @@ impl Problem {
             m: robot.len(),
             appearance: appearance_affinity(human, robot)?,
             spatial: SpatialTerm::Edges(SpatialAffinity::new(human, robot, beta)),
+            human_positions: human.objects().iter().map(|o| o.position).collect(),
+            robot_positions: robot.objects().iter().map(|o| o.position).collect(),
         })
     }
 
@@ -51,7 +58,10 @@ impl Problem {
             &distance_matrix(robot),
             params.beta,
         );
-        Ok(Self::pruned(n, m, appearance, spatial))
+        let mut problem = Self::pruned(n, m, appearance, spatial);
+        problem.human_positions = human.objects().iter().map(|o| o.position).collect();
+        problem.robot_positions = robot.objects().iter().map(|o| o.position).collect();
+        Ok(problem)
     }
 
     /// A live-tier problem from its parts: `appearance` is masked to the
@@ -64,11 +74,14 @@ impl Problem {
             .zip(&keep)
             .filter(|(_, kept)| !**kept)
             .for_each(|(a, _)| *a = 0.0);
+        // Positions are the caller's to fill (`live`, the engine).
         Self {
             n,
             m,
             appearance,
             spatial: SpatialTerm::Pairs(spatial),
+            human_positions: Vec::new(),
+            robot_positions: Vec::new(),
         }
     }
 

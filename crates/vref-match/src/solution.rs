@@ -8,6 +8,11 @@ pub struct Solution {
     /// For each human object (row), the robot object (column) it is
     /// matched to, or `None` for no partner.
     pub assignment: Vec<Option<usize>>,
+    /// For each row, the probability that its assignment (a partner, or
+    /// none) is right: calibrated for `rigid`, the soft row share for the
+    /// published methods (README, "Choices where ALGORITHMS.md leaves
+    /// room").
+    pub confidence: Vec<f64>,
     /// Iterations of the method's main loop (0 for closed-form methods).
     pub iterations: usize,
     /// Whether the main loop met its tolerance before its iteration limit.

@@ -8,10 +8,15 @@ use vref_match::{MatchError, Method, Params, Problem, score_scene, solve};
 use vref_scene::ScenePair;
 
 fn params() -> Params {
-    Params {
+    let mut params = Params {
         beta: 0.01,
         ..Params::default()
-    }
+    };
+    // The motions here move coordinates arbitrarily; they are not camera
+    // poses, so `rigid`'s assumption that both cameras look at the objects
+    // from the same side of their plane does not hold.
+    params.rigid.same_side = false;
+    params
 }
 
 fn id_pairs(method: Method, pair: &ScenePair) -> Vec<(u64, u64)> {
@@ -94,7 +99,13 @@ proptest! {
         let pair = without_robot(&full, keep.min(n));
         for method in Method::ALL {
             let pairs = id_pairs(method, &pair);
-            prop_assert_eq!(pairs.len(), pair.human.len().min(pair.robot.len()));
+            let most = pair.human.len().min(pair.robot.len());
+            if method == Method::Rigid {
+                // `rigid` may leave objects without a partner.
+                prop_assert!(pairs.len() <= most);
+            } else {
+                prop_assert_eq!(pairs.len(), most);
+            }
             let mut humans: Vec<u64> = pairs.iter().map(|p| p.0).collect();
             let mut robots: Vec<u64> = pairs.iter().map(|p| p.1).collect();
             humans.dedup();

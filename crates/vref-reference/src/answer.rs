@@ -93,8 +93,9 @@ impl ReferenceState {
         }
     }
 
-    /// Writes the robot object matched to human object `row`, its
-    /// confidence and the next-best alternatives.
+    /// Writes the robot object matched to human object `row` (if any),
+    /// the solution's confidence in that answer and the next-best
+    /// alternatives.
     fn fill_match(&self, row: usize, answer: &mut ReferenceAnswer) {
         let (Some(cached), Some(robot)) = (&self.cached, &self.robot) else {
             answer.status = AnswerStatus::NotReady as u32;
@@ -111,15 +112,17 @@ impl ReferenceState {
                 1.0 / m as f64
             }
         };
-        let Some(col) = cached.solution.assignment.get(row).copied().flatten() else {
-            answer.status = AnswerStatus::NoMatch as u32;
-            return;
-        };
-        let matched = &objects[col];
-        answer.robot_track_id = matched.id;
-        answer.position = matched.position.coords.map(|c| c as f32).into();
-        answer.confidence = share(soft[col]) as f32;
-        let best = next_best(soft, col);
+        let confidence = cached.solution.confidence.get(row).copied().unwrap_or(0.0);
+        let assigned = cached.solution.assignment.get(row).copied().flatten();
+        answer.confidence = confidence as f32;
+        if let Some(col) = assigned {
+            let matched = &objects[col];
+            answer.robot_track_id = matched.id;
+            answer.position = matched.position.coords.map(|c| c as f32).into();
+        }
+        // Alternatives: the best other columns (all columns when the
+        // answer is "no partner"), with their soft shares.
+        let best = next_best(soft, assigned.unwrap_or(usize::MAX));
         let mut count = 0;
         for (slot, b) in answer
             .alternatives
@@ -134,8 +137,12 @@ impl ReferenceState {
             count += 1;
         }
         answer.alternative_count = count;
-        answer.status = if f64::from(answer.confidence) < self.ambiguity_threshold {
+        // Below the threshold the robot should ask "which one?", whether
+        // the unsure answer is a partner or "no partner".
+        answer.status = if confidence < self.ambiguity_threshold {
             AnswerStatus::Ambiguous as u32
+        } else if assigned.is_none() {
+            AnswerStatus::NoMatch as u32
         } else {
             AnswerStatus::Ok as u32
         };

@@ -5,7 +5,8 @@ use vref_match::{Method, Tier};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct MatcherSettings {
-    /// Matching method the service uses (appearance, sm, rrwm, paper).
+    /// Matching method the service uses (appearance, sm, rrwm, paper,
+    /// rigid).
     pub method: String,
     /// Solver tier: `live` (candidate pairs pruned by appearance, early
     /// stop, warm start across snapshots) or `exact` (ALGORITHMS.md).
@@ -14,21 +15,22 @@ pub struct MatcherSettings {
     pub stale_after_ms: u64,
     /// How often dead nodes of crashed processes are cleaned up, ms.
     pub cleanup_interval_ms: u64,
-    /// Answers whose confidence is below this are `ambiguous`. The
-    /// confidence of the four published methods is not calibrated (it is
-    /// the matched entry's share of its row in the method's soft answer),
-    /// so the default never declares ambiguity.
+    /// Answers whose confidence is below this are `ambiguous` (with the
+    /// top alternatives). `rigid`'s confidence is a calibrated probability
+    /// that the answer is right, so the default 0.5 flags answers more
+    /// likely wrong than right; the published methods' confidence is only
+    /// a row share (README).
     pub ambiguity_threshold: f64,
 }
 
 impl Default for MatcherSettings {
     fn default() -> Self {
         Self {
-            method: "paper".to_owned(),
+            method: "rigid".to_owned(),
             tier: "live".to_owned(),
             stale_after_ms: 500,
             cleanup_interval_ms: 250,
-            ambiguity_threshold: 0.0,
+            ambiguity_threshold: 0.5,
         }
     }
 }

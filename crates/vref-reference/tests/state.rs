@@ -326,3 +326,69 @@ fn answers_say_whether_they_needed_a_solve() {
     assert!(!bad.solved());
     assert_eq!(s.solves(), 2);
 }
+
+fn ready_with(settings: MatcherSettings, now: Instant) -> ReferenceState {
+    let mut s = ReferenceState::new(&settings, Params::default(), Limits::default()).unwrap();
+    s.accept_snapshot(
+        Side::Robot,
+        &header(Side::Robot, 1, 1, 4),
+        &entries(&ROBOT_IDS, 0.5),
+        now,
+    )
+    .unwrap();
+    s.accept_snapshot(
+        Side::Human,
+        &header(Side::Human, 2, 1, 4),
+        &entries(&HUMAN_IDS, 0.0),
+        now,
+    )
+    .unwrap();
+    s
+}
+
+#[test]
+fn the_default_method_answers_with_its_calibrated_confidence() {
+    let now = Instant::now();
+    let settings = MatcherSettings::default();
+    assert_eq!(settings.method, "rigid");
+    assert!(settings.ambiguity_threshold > 0.0);
+    let mut s = ready_with(settings, now);
+    for (k, &h) in HUMAN_IDS.iter().enumerate() {
+        let a = s.answer(&query(QueryKind::HumanObject, h, [0.0; 3], [0.0; 3]), now);
+        assert_eq!(a.status, AnswerStatus::Ok as u32, "human object {h}");
+        assert_eq!(a.robot_track_id, ROBOT_IDS[k]);
+        assert!(
+            a.confidence >= 0.5 && a.confidence <= 1.0,
+            "{}",
+            a.confidence
+        );
+    }
+}
+
+#[test]
+fn answers_below_the_ambiguity_threshold_are_ambiguous_with_alternatives() {
+    let now = Instant::now();
+    let q = query(QueryKind::HumanObject, HUMAN_IDS[0], [0.0; 3], [0.0; 3]);
+    let at = |threshold: f64| {
+        let settings = MatcherSettings {
+            method: "paper".to_owned(),
+            ambiguity_threshold: threshold,
+            ..MatcherSettings::default()
+        };
+        ready_with(settings, now).answer(&q, now)
+    };
+    let sure = at(0.0);
+    assert_eq!(sure.status, AnswerStatus::Ok as u32);
+    // The paper's confidence is a row share, below 1 with four columns.
+    assert!(sure.confidence < 1.0);
+    let unsure = at(f64::from(sure.confidence) + 1e-3);
+    assert_eq!(unsure.status, AnswerStatus::Ambiguous as u32);
+    assert_eq!(unsure.robot_track_id, sure.robot_track_id);
+    assert_eq!(unsure.alternative_count, 3);
+    assert!(
+        unsure
+            .alternatives
+            .iter()
+            .all(|alt| alt.robot_track_id != 0 && alt.robot_track_id != unsure.robot_track_id)
+    );
+}

@@ -94,7 +94,7 @@ pub struct EvalArgs {
     )]
     pub levels: Option<Vec<f64>>,
     /// Method to evaluate; repeat for several. Default: all of them
-    /// (appearance, sm, rrwm, paper).
+    /// (appearance, sm, rrwm, paper, rigid).
     #[arg(long = "method", value_name = "NAME", value_parser = parse_method)]
     pub methods: Vec<Method>,
     /// Spatial bandwidth beta, overriding the configuration (CMU House in
@@ -108,6 +108,11 @@ pub struct EvalArgs {
     /// Print one JSON object per method on stdout instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Also write every human object's answer (method, scene, row,
+    /// confidence, correct, matched) as JSON Lines to FILE: the input of
+    /// tools/fit-calibration.py.
+    #[arg(long, value_name = "FILE.jsonl", requires = "dataset")]
+    pub answers: Option<PathBuf>,
     /// Configuration file (default: $VREF_CONFIG, else config/vref.toml if
     /// present, else built-in defaults).
     #[arg(long, value_name = "FILE")]

@@ -52,6 +52,9 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
         return Err(anyhow!("{} holds no scenes", dataset_path.display())).bad_input();
     }
 
+    if let Some(path) = &args.answers {
+        write_answers(&evaluation, &methods, path)?;
+    }
     let dataset = dataset_path.display().to_string();
     let reports = evaluation.reports();
     if args.json {
@@ -80,6 +83,7 @@ struct JsonLine<'a> {
     precision_std: f64,
     recall_std: f64,
     mean_solve_us: f64,
+    ece: f64,
 }
 
 fn json_line(report: &MethodReport, dataset: &str, tier: vref_match::Tier) -> String {
@@ -96,13 +100,21 @@ fn json_line(report: &MethodReport, dataset: &str, tier: vref_match::Tier) -> St
         precision_std: s.precision.std,
         recall_std: s.recall.std,
         mean_solve_us: report.mean_solve.as_secs_f64() * 1e6,
+        ece: report.ece,
     };
     serde_json::to_string(&line).unwrap_or_default()
 }
 
 fn table(reports: &[MethodReport], dataset: &str) -> String {
     let scenes = reports.first().map_or(0, |r| r.summary.scenes);
-    let mut table = Table::new(&["method", "accuracy", "precision", "recall", "mean solve"]);
+    let mut table = Table::new(&[
+        "method",
+        "accuracy",
+        "precision",
+        "recall",
+        "ECE",
+        "mean solve",
+    ]);
     for r in reports {
         let s = &r.summary;
         let stat = |st: vref_match::Stat| format!("{:.4} ± {:.4}", st.mean, st.std);
@@ -111,8 +123,43 @@ fn table(reports: &[MethodReport], dataset: &str) -> String {
             stat(s.accuracy),
             stat(s.precision),
             stat(s.recall),
+            format!("{:.4}", r.ece),
             format!("{:.1} us", r.mean_solve.as_secs_f64() * 1e6),
         ]);
     }
     format!("{dataset}: {scenes} scenes\n{table}")
+}
+
+/// One line of `--answers`.
+#[derive(serde::Serialize)]
+struct AnswerLine<'a> {
+    method: &'a str,
+    #[serde(flatten)]
+    answer: &'a vref_match::RowAnswer,
+}
+
+fn write_answers(
+    evaluation: &Evaluation,
+    methods: &[Method],
+    path: &std::path::Path,
+) -> Result<(), Failure> {
+    use std::io::Write;
+    let write = || -> anyhow::Result<()> {
+        let mut out = std::io::BufWriter::new(File::create(path)?);
+        for &method in methods {
+            for answer in evaluation.answers(method) {
+                let line = AnswerLine {
+                    method: method.name(),
+                    answer,
+                };
+                serde_json::to_writer(&mut out, &line)?;
+                out.write_all(b"\n")?;
+            }
+        }
+        out.flush()?;
+        Ok(())
+    };
+    write()
+        .with_context(|| format!("writing {}", path.display()))
+        .runtime()
 }

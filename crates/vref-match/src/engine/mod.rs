@@ -180,23 +180,37 @@ impl Engine {
         if m == 0 {
             return Err(MatchError::EmptyGraph { side: "robot" });
         }
-        let problem = match self.tier {
+        // `rigid` never multiplies by S and has no iterations to stop early
+        // or warm-start: the live tier's shortcuts would only prune its
+        // candidates, so it always runs as in the exact tier.
+        let tier = if self.method == Method::Rigid {
+            Tier::Exact
+        } else {
+            self.tier
+        };
+        let mut problem = match tier {
             Tier::Exact => Problem {
                 n,
                 m,
                 appearance: self.appearance.clone(),
                 spatial: SpatialTerm::Edges(self.exact_spatial()),
+                human_positions: Vec::new(),
+                robot_positions: Vec::new(),
             },
             Tier::Live => Problem::pruned(n, m, self.appearance.clone(), self.live_spatial()),
         };
-        let warm = match self.tier {
+        // `rigid` works on positions (both tiers).
+        let points =
+            |objects: &[view::Tracked]| objects.iter().map(|o| o.position.into()).collect();
+        problem.human_positions = points(&self.human.objects);
+        problem.robot_positions = points(&self.robot.objects);
+        let warm = match tier {
             Tier::Exact => None,
             Tier::Live => self.warm_start(),
         };
         let options = SolveOptions {
             warm_start: warm.as_deref(),
-            stop_when_stable: (self.tier == Tier::Live)
-                .then_some(self.params.live.stable_iterations),
+            stop_when_stable: (tier == Tier::Live).then_some(self.params.live.stable_iterations),
         };
         let params = match self.tier {
             Tier::Exact => self.params,
@@ -219,7 +233,9 @@ impl Engine {
     fn exact_spatial(&self) -> SpatialAffinity {
         let (h, r) = (&self.human, &self.robot);
         match &self.spatial {
-            Some(SpatialTerm::Edges(previous)) if self.method != Method::Appearance => {
+            Some(SpatialTerm::Edges(previous))
+                if !matches!(self.method, Method::Appearance | Method::Rigid) =>
+            {
                 SpatialAffinity::updated(
                     previous,
                     &self.human_in_spatial,

@@ -1,8 +1,9 @@
-//! The four methods of ALGORITHMS.md. Each produces a soft correspondence
-//! and ends with Hungarian discretisation.
+//! The four methods of ALGORITHMS.md, each producing a soft correspondence
+//! that ends with Hungarian discretisation, and vref's own `rigid`.
 
 mod appearance_only;
 mod paper;
+mod rigid;
 mod rrwm;
 mod sm;
 mod stability;
@@ -10,6 +11,8 @@ mod vector;
 
 use std::fmt;
 use std::str::FromStr;
+
+pub use rigid::RigidParams;
 
 use crate::{MatchError, Params, Problem, Solution, hungarian_max};
 
@@ -24,10 +27,19 @@ pub enum Method {
     Rrwm,
     /// The paper's appearance-guided reweighted jumps.
     Paper,
+    /// vref's own: a rigid motion between the views found by RANSAC,
+    /// verification of every pair, "no partner" when nothing fits.
+    Rigid,
 }
 
 impl Method {
-    pub const ALL: [Method; 4] = [Method::Appearance, Method::Sm, Method::Rrwm, Method::Paper];
+    pub const ALL: [Method; 5] = [
+        Method::Appearance,
+        Method::Sm,
+        Method::Rrwm,
+        Method::Paper,
+        Method::Rigid,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -35,6 +47,7 @@ impl Method {
             Method::Sm => "sm",
             Method::Rrwm => "rrwm",
             Method::Paper => "paper",
+            Method::Rigid => "rigid",
         }
     }
 }
@@ -99,16 +112,46 @@ pub fn solve_with(
         });
     }
     let soft = match method {
+        Method::Rigid => return Ok(rigid::solve(problem, params)),
         Method::Appearance => appearance_only::solve(problem),
         Method::Sm => sm::solve(problem, &params.sm, options),
         Method::Rrwm => rrwm::solve(problem, params, options),
         Method::Paper => paper::solve(problem, params, options),
     };
     let assignment = hungarian_max(&soft.x, problem.n, problem.m)?.row_to_col;
+    let confidence = row_share_confidence(&soft.x, problem.m, &assignment);
     Ok(Solution {
+        confidence,
         soft: soft.x,
         assignment,
         iterations: soft.iterations,
         converged: soft.converged,
     })
+}
+
+/// The published methods' confidence: the assigned entry's share of its
+/// row in the soft answer (negative entries count 0; a uniform row when
+/// nothing is positive). A row left without a partner (more human than
+/// robot objects) gets `1 -` the largest share: the chance that no column
+/// is meant, as far as the soft answer tells.
+fn row_share_confidence(soft: &[f64], m: usize, assignment: &[Option<usize>]) -> Vec<f64> {
+    assignment
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let row = &soft[i * m..(i + 1) * m];
+            let total: f64 = row.iter().map(|v| v.max(0.0)).sum();
+            let share = |v: f64| {
+                if total > 0.0 {
+                    v.max(0.0) / total
+                } else {
+                    1.0 / m as f64
+                }
+            };
+            match a {
+                Some(j) => share(row[*j]),
+                None => 1.0 - row.iter().map(|&v| share(v)).fold(0.0, f64::max),
+            }
+        })
+        .collect()
 }

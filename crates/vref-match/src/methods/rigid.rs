@@ -1,0 +1,758 @@
+//! `rigid`: vref's own method. Both views are rigid snapshots of one 3D
+//! scene, so a single proper rotation and translation maps the human
+//! view onto the robot's. The method finds it by RANSAC over candidate
+//! pairs seeded by appearance, verifies every pair against it, and assigns
+//! with a cost for leaving an object without a partner, so that objects
+//! one camera alone sees stay unmatched. Its confidence is a calibrated
+//! probability that the row's answer (a partner, or none) is right.
+
+use nalgebra::Point3;
+use serde::{Deserialize, Serialize};
+
+use crate::calibration::Calibration;
+use crate::rigid::RigidMotion;
+use crate::{MatchError, Params, Problem, Solution, hungarian_max};
+
+/// Constants of the `rigid` method.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RigidParams {
+    /// Appearance enters as `exp((a - best a of the row) / temperature)`:
+    /// a likelihood relative to the row's most similar object.
+    pub appearance_temperature: f64,
+    /// Robot objects per human object that hypotheses are drawn from,
+    /// the most similar in appearance first.
+    pub candidates: usize,
+    /// Distance-consistent hypotheses scored.
+    pub hypotheses: usize,
+    /// Residual scale as a multiple of the robot view's median distance
+    /// between nearest neighbours: position error and object spacing grow
+    /// together with the range a camera works at (centimetres on a table,
+    /// decimetres on a floor), so one factor serves both.
+    pub sigma_factor: f64,
+
+    /// Cost of leaving a human object without a partner, in the units of
+    /// the pair cost `-ln(appearance likelihood) + r^2 / (2 sigma^2)`.
+    pub unmatched_cost: f64,
+    /// The search ends early at a hypothesis whose score reaches this
+    /// share of the largest possible (every object of the smaller view
+    /// explained with zero cost).
+    pub decisive_share: f64,
+    /// Best hypotheses of the search that are locally optimised (re-fitted
+    /// to the pairs they explain) before the best is chosen.
+    pub local_optimisations: usize,
+    /// Re-fits of the motion on the assigned pairs after the search.
+    pub refinements: usize,
+    /// Score difference (in nats: scores are log-likelihood gains) that
+    /// makes the best motion e times likelier than the runner-up.
+    pub motion_temperature: f64,
+    /// A partner that the runner-up motion pairs otherwise and whose raw
+    /// share (its row's softmax share times the best motion's probability)
+    /// is below this is not given: the object is answered "no partner".
+    /// 0 never abstains.
+    pub abstain_share: f64,
+    /// Refuse motions that put the two cameras on opposite sides of the
+    /// plane the objects stand on (see `Side`).
+    pub same_side: bool,
+    /// Seed of the hypothesis sampler (answers are deterministic).
+    pub seed: u64,
+    /// Raw row share and fit quality to probability.
+    pub calibration: Calibration,
+}
+
+impl Default for RigidParams {
+    fn default() -> Self {
+        Self {
+            appearance_temperature: 0.1,
+            candidates: 6,
+            hypotheses: 200,
+            sigma_factor: 0.4,
+            unmatched_cost: 4.5,
+            decisive_share: 0.8,
+            local_optimisations: 8,
+            refinements: 3,
+            motion_temperature: 2.0,
+            abstain_share: 0.65,
+            same_side: true,
+            seed: 0x5eed,
+            calibration: Calibration::default(),
+        }
+    }
+}
+
+impl RigidParams {
+    pub(crate) fn validate(&self) -> Result<(), MatchError> {
+        for (name, value) in [
+            ("rigid.appearance_temperature", self.appearance_temperature),
+            ("rigid.sigma_factor", self.sigma_factor),
+            ("rigid.unmatched_cost", self.unmatched_cost),
+            ("rigid.decisive_share", self.decisive_share),
+            ("rigid.motion_temperature", self.motion_temperature),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(MatchError::BadParameter {
+                    name,
+                    value,
+                    expected: "positive and finite",
+                });
+            }
+        }
+        for (name, count) in [
+            ("rigid.candidates", self.candidates),
+            ("rigid.hypotheses", self.hypotheses),
+        ] {
+            if count == 0 {
+                return Err(MatchError::BadParameter {
+                    name,
+                    value: 0.0,
+                    expected: "at least 1",
+                });
+            }
+        }
+        if !(0.0..=1.0).contains(&self.abstain_share) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.abstain_share",
+                value: self.abstain_share,
+                expected: "in [0, 1]",
+            });
+        }
+        let c = &self.calibration;
+        if ![c.bias, c.slope, c.no_partner_shift]
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return Err(MatchError::BadParameter {
+                name: "rigid.calibration",
+                value: f64::NAN,
+                expected: "finite constants",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Minimal samples tried per hypothesis scored; most fail the cheap
+/// distance check, so this bounds the search when nothing is consistent.
+const ATTEMPTS_PER_HYPOTHESIS: usize = 50;
+/// Score of a column a row must never take in the padded assignment.
+const FORBIDDEN: f64 = -1e12;
+/// Robot objects this much below a row's best appearance log-likelihood
+/// (a tenth of its likelihood) are still candidates.
+const CANDIDATE_LOG_GAP: f64 = std::f64::consts::LN_10;
+/// Re-fits per locally optimised hypothesis (each must raise its score).
+const LOCAL_REFITS: usize = 3;
+
+/// The per-pair costs of one motion (or of appearance alone).
+struct Costs<'a> {
+    problem: &'a Problem,
+    log_g: &'a [f64],
+    inv_two_sigma2: f64,
+    /// Robot positions by coordinate, so that a row of costs is one
+    /// vectorisable pass (the search computes thousands of rows).
+    robot_xyz: [Vec<f64>; 3],
+}
+
+impl<'a> Costs<'a> {
+    fn new(problem: &'a Problem, log_g: &'a [f64], sigma: f64) -> Self {
+        let axis = |k: usize| problem.robot_positions.iter().map(|p| p[k]).collect();
+        Self {
+            problem,
+            log_g,
+            inv_two_sigma2: 1.0 / (2.0 * sigma * sigma),
+            robot_xyz: [axis(0), axis(1), axis(2)],
+        }
+    }
+
+    /// Costs of human object `i`, moved to `moved`, against every robot
+    /// object, into `out` (length m).
+    fn row(&self, i: usize, moved: &Point3<f64>, out: &mut [f64]) {
+        let m = self.problem.m;
+        let log_g = &self.log_g[i * m..(i + 1) * m];
+        let [xs, ys, zs] = &self.robot_xyz;
+        let inv = self.inv_two_sigma2;
+        for ((((o, &g), &x), &y), &z) in out.iter_mut().zip(log_g).zip(xs).zip(ys).zip(zs) {
+            let (dx, dy, dz) = (moved.x - x, moved.y - y, moved.z - z);
+            *o = (dx * dx + dy * dy + dz * dz) * inv - g;
+        }
+    }
+
+    fn pair(
+        &self,
+        motion: Option<&RigidMotion>,
+        moved: Option<&Point3<f64>>,
+        i: usize,
+        j: usize,
+    ) -> f64 {
+        let m = self.problem.m;
+        let appearance = -self.log_g[i * m + j];
+        match (motion, moved) {
+            (Some(_), Some(p)) => {
+                let r2 = (p - self.problem.robot_positions[j]).norm_squared();
+                appearance + r2 * self.inv_two_sigma2
+            }
+            _ => appearance,
+        }
+    }
+
+    /// Row-major `n x m` costs under `motion`.
+    fn matrix(&self, motion: Option<&RigidMotion>) -> Vec<f64> {
+        let (n, m) = (self.problem.n, self.problem.m);
+        let mut out = Vec::with_capacity(n * m);
+        for i in 0..n {
+            let moved = motion.map(|t| t.apply(&self.problem.human_positions[i]));
+            for j in 0..m {
+                out.push(self.pair(motion, moved.as_ref(), i, j));
+            }
+        }
+        out
+    }
+}
+
+pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
+    let rp = &params.rigid;
+    let (n, m) = (problem.n, problem.m);
+    let sigma = rp.sigma_factor * spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
+    let log_g = appearance_log_likelihood(problem, rp.appearance_temperature);
+    let costs = Costs::new(problem, &log_g, sigma);
+    let found = search(&costs, sigma, rp);
+    let mut motion = found.as_ref().map(|f| f.motion);
+    let mut cost = costs.matrix(motion.as_ref());
+    let mut assignment = assign(&cost, n, m, rp.unmatched_cost);
+    let mut iterations = 0;
+    let mut converged = motion.is_none();
+    if motion.is_some() {
+        for _ in 0..rp.refinements {
+            iterations += 1;
+            let Some(refit) = fit_assigned(problem, &assignment) else {
+                break;
+            };
+            motion = Some(refit);
+            cost = costs.matrix(motion.as_ref());
+            let next = assign(&cost, n, m, rp.unmatched_cost);
+            let same = next == assignment;
+            assignment = next;
+            if same {
+                converged = true;
+                break;
+            }
+        }
+    }
+    let (soft, unmatched) = row_shares(&cost, n, m, rp.unmatched_cost);
+
+    // The runner-up motion: where it pairs a row differently, that row's
+    // answer is only as sure as the best motion is against it.
+    let (p_best, alternative) = match &found {
+        Some(f) => match f.alternative {
+            Some((score, alt)) => {
+                let p = 1.0 / (1.0 + (-(f.score - score) / rp.motion_temperature).exp());
+                let alt_assignment = (p < 1.0 - 1e-9)
+                    .then(|| assign(&costs.matrix(Some(&alt)), n, m, rp.unmatched_cost));
+                (p, alt_assignment)
+            }
+            None => (1.0, None),
+        },
+        None => (1.0, None),
+    };
+    let mut confidence = Vec::with_capacity(n);
+    for i in 0..n {
+        let agrees = alternative
+            .as_ref()
+            .is_none_or(|alt| alt[i] == assignment[i]);
+        let motion_share = if agrees { 1.0 } else { p_best };
+        let mut raw = motion_share
+            * match assignment[i] {
+                Some(j) => soft[i * m + j],
+                None => unmatched[i],
+            };
+        // Abstaining: a partner the runner-up motion disputes and that is
+        // this unsure is not given (precision); the object is answered "no
+        // partner" with that answer's share. Decided on the raw share, so
+        // that the calibration is fitted to the answers as finally given.
+        if assignment[i].is_some() && !agrees && raw < rp.abstain_share {
+            assignment[i] = None;
+            raw = unmatched[i];
+        }
+        confidence.push(rp.calibration.probability(raw, assignment[i].is_none()));
+    }
+    Solution {
+        soft,
+        assignment,
+        confidence,
+        iterations,
+        converged,
+    }
+}
+
+/// `(a - max of the row) / temperature`: the log of an appearance
+/// likelihood relative to the row's best; all 0 without features.
+fn appearance_log_likelihood(problem: &Problem, temperature: f64) -> Vec<f64> {
+    let m = problem.m;
+    let mut out = Vec::with_capacity(problem.len());
+    for row in problem.appearance.chunks(m) {
+        let best = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        out.extend(row.iter().map(|&a| (a - best) / temperature));
+    }
+    out
+}
+
+/// The best-scoring proper motion among hypotheses fitted to three
+/// distance-consistent candidate pairs; `None` when either view has fewer
+/// than three objects or no sample is consistent.
+fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
+    let problem = costs.problem;
+    let (n, m) = (problem.n, problem.m);
+    if n < 3 || m < 3 {
+        return None;
+    }
+    let candidates = candidate_columns(costs.log_g, n, m, rp.candidates);
+    let hp = &problem.human_positions;
+    let rpos = &problem.robot_positions;
+    // Distances may disagree by the noise of two positions on each side.
+    let tolerance = 3.0 * sigma;
+    let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
+    let mut top: Vec<(f64, RigidMotion)> = Vec::new();
+    let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
+    let mut consistent: Vec<usize> = Vec::with_capacity(m);
+    let mut scratch = Scratch::default();
+    let side = Side::of(rpos);
+    let probes = probe_points(hp);
+    let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, 2.0 * sigma);
+    // A motion that explains nearly every object nearly perfectly leaves
+    // nothing for further hypotheses to find.
+    let decisive = rp.decisive_share * rp.unmatched_cost * n.min(m) as f64;
+    // Sample edges shorter than the tolerance give poorly determined
+    // rotations and are avoided, unless a sparse scene has too few samples
+    // without them to fill the kept few.
+    let keep = rp.local_optimisations.max(1);
+    for min_edge in [tolerance, 0.0] {
+        if top.len() >= keep {
+            break;
+        }
+        let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
+            let dh = (hp[i] - hp[j]).norm();
+            let dr = (rpos[a] - rpos[b]).norm();
+            i != j && a != b && dh > min_edge && (dh - dr).abs() <= tolerance
+        };
+        let mut scored = 0;
+        let mut attempts = 0;
+        while scored < rp.hypotheses && attempts < max_attempts {
+            attempts += 1;
+            // Guided sampling: the second and third pairs are drawn only among
+            // the candidates whose distances agree with the pairs drawn before,
+            // so that a right first pair is likely to grow into a right sample
+            // even when a row has many look-alike candidates.
+            let i = rng.below(n);
+            let first = (i, candidates[i][rng.below(candidates[i].len())]);
+            let mut s = [first; 3];
+            let mut complete = true;
+            for k in 1..3 {
+                let row = rng.below(n);
+                consistent.clear();
+                consistent.extend(
+                    candidates[row]
+                        .iter()
+                        .copied()
+                        .filter(|&col| s[..k].iter().all(|&p| fits(p, (row, col)))),
+                );
+                if consistent.is_empty() {
+                    complete = false;
+                    break;
+                }
+                s[k] = (row, consistent[rng.below(consistent.len())]);
+            }
+            if !complete {
+                continue;
+            }
+            let from = s.map(|(i, _)| hp[i]);
+            let to = s.map(|(_, j)| rpos[j]);
+            let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
+                continue;
+            };
+            if rp.same_side && !side.allows(&motion) {
+                continue;
+            }
+            scored += 1;
+            // Only a hypothesis that can enter the kept few is scored fully.
+            let keep = rp.local_optimisations.max(1);
+            let beat = if top.len() < keep {
+                f64::NEG_INFINITY
+            } else {
+                top.last().map_or(f64::NEG_INFINITY, |(s, _)| *s)
+            };
+            if let Some((score, _)) = greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch)
+            {
+                keep_best(&mut top, keep, score, motion, same);
+                if score >= decisive {
+                    break;
+                }
+            }
+        }
+    }
+    // Local optimisation: a motion fitted to three noisy pairs is only
+    // roughly right, so the best few are re-fitted to the pairs they
+    // explain before they are compared.
+    let mut refined: Vec<(f64, RigidMotion)> = Vec::with_capacity(top.len());
+    for (mut score, mut motion) in top {
+        for _ in 0..LOCAL_REFITS {
+            let Some((_, pairs)) = greedy(
+                costs,
+                &motion,
+                rp.unmatched_cost,
+                f64::NEG_INFINITY,
+                &mut scratch,
+            ) else {
+                break;
+            };
+            let Some(refit) = fit_pairs(problem, &pairs) else {
+                break;
+            };
+            let Some((refit_score, _)) =
+                greedy(costs, &refit, rp.unmatched_cost, score, &mut scratch)
+            else {
+                break;
+            };
+            if refit_score <= score {
+                break;
+            }
+            (score, motion) = (refit_score, refit);
+        }
+        refined.push((score, motion));
+    }
+    refined.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let (score, motion) = *refined.first()?;
+    let alternative = refined
+        .iter()
+        .skip(1)
+        .find(|(_, other)| !same(&motion, other))
+        .copied();
+    Some(Found {
+        motion,
+        score,
+        alternative,
+    })
+}
+
+/// The search's answer: the best motion, its score, and the best motion
+/// that pairs objects differently, with its score.
+struct Found {
+    motion: RigidMotion,
+    score: f64,
+    alternative: Option<(f64, RigidMotion)>,
+}
+
+/// Inserts `(score, motion)` into `top`, which holds the `k` best
+/// distinct motions so far, best first: a motion that places the probe
+/// points like one already held replaces it only when it scores higher.
+fn keep_best(
+    top: &mut Vec<(f64, RigidMotion)>,
+    k: usize,
+    score: f64,
+    motion: RigidMotion,
+    same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
+) {
+    if let Some(at) = top.iter().position(|(_, held)| same(held, &motion)) {
+        if top[at].0 >= score {
+            return;
+        }
+        top.remove(at);
+    }
+    let at = top.partition_point(|(s, _)| *s >= score);
+    if at < k {
+        top.insert(at, (score, motion));
+        top.truncate(k);
+    }
+}
+
+/// Whether two motions place every probe point within `tolerance` of
+/// each other (they name the same correspondences).
+fn same_motion(a: &RigidMotion, b: &RigidMotion, probes: &[Point3<f64>], tolerance: f64) -> bool {
+    probes
+        .iter()
+        .all(|p| (a.apply(p) - b.apply(p)).norm_squared() <= tolerance * tolerance)
+}
+
+/// How well `motion` explains the scene: each human object's best pair
+/// under it, taken greedily by gain over "no partner" with every robot
+/// object used once (a cheap stand-in for the assignment). Returns the
+/// total gain and the pairs taken, or `None` as soon as the total cannot
+/// reach `beat` (each row gains at most `unmatched`). Objects without a
+/// partner add nothing instead of dragging a right motion down.
+fn greedy(
+    costs: &Costs<'_>,
+    motion: &RigidMotion,
+    unmatched: f64,
+    beat: f64,
+    scratch: &mut Scratch,
+) -> Option<(f64, Vec<(usize, usize)>)> {
+    let problem = costs.problem;
+    let (n, m) = (problem.n, problem.m);
+    scratch.gains.clear();
+    scratch.row.resize(m, 0.0);
+    let mut bound = unmatched * n as f64;
+    for i in 0..n {
+        let moved = motion.apply(&problem.human_positions[i]);
+        costs.row(i, &moved, &mut scratch.row);
+        // The two best columns of the row, so that a row whose best is
+        // taken can still fall back to its second.
+        let mut first = (f64::INFINITY, usize::MAX);
+        let mut second = (f64::INFINITY, usize::MAX);
+        for (j, &c) in scratch.row.iter().enumerate() {
+            if c < second.0 {
+                if c < first.0 {
+                    second = first;
+                    first = (c, j);
+                } else {
+                    second = (c, j);
+                }
+            }
+        }
+        bound -= unmatched - (unmatched - first.0).max(0.0);
+        if bound < beat {
+            return None;
+        }
+        for (c, j) in [first, second] {
+            if c < unmatched && j != usize::MAX {
+                scratch.gains.push((unmatched - c, i, j));
+            }
+        }
+    }
+    scratch.gains.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    scratch.row_used.clear();
+    scratch.row_used.resize(n, false);
+    scratch.col_used.clear();
+    scratch.col_used.resize(m, false);
+    let mut total = 0.0;
+    let mut pairs = Vec::with_capacity(n.min(m));
+    for &(gain, i, j) in &scratch.gains {
+        if !scratch.row_used[i] && !scratch.col_used[j] {
+            scratch.row_used[i] = true;
+            scratch.col_used[j] = true;
+            total += gain;
+            pairs.push((i, j));
+        }
+    }
+    Some((total, pairs))
+}
+
+/// Buffers reused by every [`greedy`] call of one search.
+#[derive(Default)]
+struct Scratch {
+    row: Vec<f64>,
+    gains: Vec<(f64, usize, usize)>,
+    row_used: Vec<bool>,
+    col_used: Vec<bool>,
+}
+
+/// The motion fitted to `pairs` of (human, robot) objects; `None` below
+/// three pairs.
+fn fit_pairs(problem: &Problem, pairs: &[(usize, usize)]) -> Option<RigidMotion> {
+    if pairs.len() < 3 {
+        return None;
+    }
+    let from: Vec<_> = pairs
+        .iter()
+        .map(|&(i, _)| problem.human_positions[i])
+        .collect();
+    let to: Vec<_> = pairs
+        .iter()
+        .map(|&(_, j)| problem.robot_positions[j])
+        .collect();
+    RigidMotion::fit(&from, &to, &vec![1.0; pairs.len()])
+}
+
+/// For each human object, the robot objects that hypotheses may pair it
+/// with, most similar first: its `k` most similar, and every other whose
+/// appearance likelihood is within [`CANDIDATE_LOG_GAP`] of the best (all
+/// of them when appearance tells nothing, as without features).
+fn candidate_columns(log_g: &[f64], n: usize, m: usize, k: usize) -> Vec<Vec<usize>> {
+    (0..n)
+        .map(|i| {
+            let row = &log_g[i * m..(i + 1) * m];
+            let mut order: Vec<usize> = (0..m).collect();
+            order.sort_by(|&a, &b| row[b].total_cmp(&row[a]));
+            let keep = order
+                .iter()
+                .enumerate()
+                .take_while(|&(rank, &j)| rank < k || row[j] >= -CANDIDATE_LOG_GAP)
+                .count();
+            order.truncate(keep.max(1));
+            order
+        })
+        .collect()
+}
+
+/// Both cameras look at the objects from the same side of the surface
+/// they stand on (a table top, a floor). When the robot view's objects lie
+/// near a plane with the robot camera clearly off it, a motion that puts
+/// the human camera on the other side is a mirror of the scene through
+/// that plane, and is refused. Says nothing for scenes far from planar or
+/// cameras in their plane (image coordinates with z = 0).
+struct Side {
+    plane: Option<(Point3<f64>, nalgebra::Vector3<f64>)>,
+}
+
+impl Side {
+    /// Smallest spread of the objects across the plane, as a share of the
+    /// next smallest, below which the scene counts as planar.
+    const FLATNESS: f64 = 0.25;
+
+    fn of(points: &[Point3<f64>]) -> Self {
+        let none = Self { plane: None };
+        if points.len() < 3 {
+            return none;
+        }
+        let c = points
+            .iter()
+            .fold(nalgebra::Vector3::zeros(), |c, p| c + p.coords)
+            / points.len() as f64;
+        let cov = points.iter().fold(nalgebra::Matrix3::zeros(), |acc, p| {
+            let d = p.coords - c;
+            acc + d * d.transpose()
+        }) / points.len() as f64;
+        let eig = cov.symmetric_eigen();
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+        let (low, mid) = (eig.eigenvalues[order[0]], eig.eigenvalues[order[1]]);
+        if !(mid > 0.0 && low.max(0.0).sqrt() <= Self::FLATNESS * mid.sqrt()) {
+            return none;
+        }
+        let mut normal = eig.eigenvectors.column(order[0]).into_owned();
+        // Orient the normal towards the robot camera (the origin).
+        let camera = -normal.dot(&c);
+        if camera.abs() <= 3.0 * mid.sqrt() * Self::FLATNESS {
+            return none;
+        }
+        if camera < 0.0 {
+            normal = -normal;
+        }
+        Self {
+            plane: Some((Point3::from(c), normal)),
+        }
+    }
+
+    /// Whether `motion` keeps the human camera (its origin) on the robot
+    /// camera's side of the plane.
+    fn allows(&self, motion: &RigidMotion) -> bool {
+        self.plane
+            .is_none_or(|(c, normal)| normal.dot(&(motion.apply(&Point3::origin()) - c)) > 0.0)
+    }
+}
+
+/// The human view's extreme points along each axis and its centroid:
+/// where two motions that pair objects differently disagree most.
+fn probe_points(points: &[Point3<f64>]) -> Vec<Point3<f64>> {
+    let mut probes = Vec::with_capacity(7);
+    if points.is_empty() {
+        return probes;
+    }
+    let centroid = points
+        .iter()
+        .fold(nalgebra::Vector3::zeros(), |c, p| c + p.coords)
+        / points.len() as f64;
+    probes.push(Point3::from(centroid));
+    for axis in 0..3 {
+        let by = |a: &&Point3<f64>, b: &&Point3<f64>| a[axis].total_cmp(&b[axis]);
+        if let (Some(lo), Some(hi)) = (points.iter().min_by(by), points.iter().max_by(by)) {
+            probes.push(*lo);
+            probes.push(*hi);
+        }
+    }
+    probes
+}
+
+/// Median distance from each robot object to its nearest neighbour;
+/// `None` below two objects or when all coincide.
+fn spacing(points: &[Point3<f64>]) -> Option<f64> {
+    if points.len() < 2 {
+        return None;
+    }
+    let mut nearest: Vec<f64> = points
+        .iter()
+        .enumerate()
+        .map(|(a, p)| {
+            points
+                .iter()
+                .enumerate()
+                .filter(|&(b, _)| b != a)
+                .map(|(_, q)| (p - q).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    nearest.sort_by(f64::total_cmp);
+    let median = nearest[nearest.len() / 2];
+    (median.is_finite() && median > 0.0).then_some(median)
+}
+
+/// The motion re-fitted to the assigned pairs; `None` below three pairs.
+fn fit_assigned(problem: &Problem, assignment: &[Option<usize>]) -> Option<RigidMotion> {
+    let (from, to): (Vec<_>, Vec<_>) = assignment
+        .iter()
+        .enumerate()
+        .filter_map(|(i, a)| a.map(|j| (problem.human_positions[i], problem.robot_positions[j])))
+        .unzip();
+    if from.len() < 3 {
+        return None;
+    }
+    RigidMotion::fit(&from, &to, &vec![1.0; from.len()])
+}
+
+/// Minimum-cost assignment in which every human object may instead stay
+/// unmatched at cost `unmatched`: the robot side is padded with one
+/// private "no partner" column per row.
+fn assign(cost: &[f64], n: usize, m: usize, unmatched: f64) -> Vec<Option<usize>> {
+    let width = m + n;
+    let mut scores = vec![FORBIDDEN; n * width];
+    for i in 0..n {
+        for j in 0..m {
+            scores[i * width + j] = -cost[i * m + j];
+        }
+        scores[i * width + m + i] = -unmatched;
+    }
+    match hungarian_max(&scores, n, width) {
+        Ok(h) => h
+            .row_to_col
+            .into_iter()
+            .map(|a| a.filter(|&j| j < m))
+            .collect(),
+        // Only non-finite costs fail, which the costs above never are
+        // for finite inputs; no partner is the safe answer.
+        Err(_) => vec![None; n],
+    }
+}
+
+/// Each row's softmax over its robot objects and "no partner"
+/// (`exp(-cost)`, normalised): the soft answer, and the share of "no
+/// partner" per row.
+fn row_shares(cost: &[f64], n: usize, m: usize, unmatched: f64) -> (Vec<f64>, Vec<f64>) {
+    let mut soft = vec![0.0; n * m];
+    let mut none = vec![0.0; n];
+    for i in 0..n {
+        let row = &cost[i * m..(i + 1) * m];
+        let low = row.iter().copied().fold(unmatched, f64::min);
+        let mut z = (low - unmatched).exp();
+        for (s, &c) in soft[i * m..(i + 1) * m].iter_mut().zip(row) {
+            *s = (low - c).exp();
+            z += *s;
+        }
+        soft[i * m..(i + 1) * m].iter_mut().for_each(|s| *s /= z);
+        none[i] = (low - unmatched).exp() / z;
+    }
+    (soft, none)
+}
+
+/// A small deterministic generator (SplitMix64) for the sampler.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    fn below(&mut self, bound: usize) -> usize {
+        (self.next() % bound.max(1) as u64) as usize
+    }
+}
