@@ -295,6 +295,28 @@ fn appearance_log_likelihood(problem: &Problem, temperature: f64) -> Vec<f64> {
     out
 }
 
+/// Indices of `points` sorted by their coordinates, x first.
+fn position_order(points: &[Point3<f64>]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (p, q) = (&points[a], &points[b]);
+        p.x.total_cmp(&q.x)
+            .then(p.y.total_cmp(&q.y))
+            .then(p.z.total_cmp(&q.z))
+            .then(a.cmp(&b))
+    });
+    order
+}
+
+/// `rank[k]`: where index `k` stands in `order`.
+fn ranks(order: &[usize]) -> Vec<usize> {
+    let mut rank = vec![0; order.len()];
+    for (r, &k) in order.iter().enumerate() {
+        rank[k] = r;
+    }
+    rank
+}
+
 /// The best-scoring proper motion among hypotheses fitted to three
 /// distance-consistent candidate pairs; `None` when either view has fewer
 /// than three objects or no sample is consistent.
@@ -304,9 +326,17 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
     if n < 3 || m < 3 {
         return None;
     }
-    let candidates = candidate_columns(costs.log_g, n, m, rp.candidates);
     let hp = &problem.human_positions;
     let rpos = &problem.robot_positions;
+    // The samples are drawn over objects in an order of their positions,
+    // not of the lists they came in, so that relabelling a view draws the
+    // same hypotheses and gives the same answer.
+    let human_order = position_order(hp);
+    let robot_rank = ranks(&position_order(rpos));
+    let mut candidates = candidate_columns(costs.log_g, n, m, rp.candidates);
+    for row in &mut candidates {
+        row.sort_by_key(|&col| robot_rank[col]);
+    }
     // Distances may disagree by the noise of two positions on each side.
     let tolerance = 3.0 * sigma;
     let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
@@ -341,12 +371,12 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
             // the candidates whose distances agree with the pairs drawn before,
             // so that a right first pair is likely to grow into a right sample
             // even when a row has many look-alike candidates.
-            let i = rng.below(n);
+            let i = human_order[rng.below(n)];
             let first = (i, candidates[i][rng.below(candidates[i].len())]);
             let mut s = [first; 3];
             let mut complete = true;
             for k in 1..3 {
-                let row = rng.below(n);
+                let row = human_order[rng.below(n)];
                 consistent.clear();
                 consistent.extend(
                     candidates[row]
