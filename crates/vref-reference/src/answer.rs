@@ -13,7 +13,7 @@ impl ReferenceState {
     /// Answers a reference query from the cached solution, solving first
     /// if the snapshots changed since.
     pub fn answer(&mut self, query: &ReferenceQuery, now: Instant) -> ReferenceAnswer {
-        let mut answer = blank(query.request_id);
+        let mut answer = ReferenceAnswer::empty(query.request_id, AnswerStatus::BadRequest);
         if query.schema_version != SCHEMA_VERSION {
             return answer;
         }
@@ -97,13 +97,14 @@ impl ReferenceState {
     /// the solution's confidence in that answer and the next-best
     /// alternatives.
     fn fill_match(&self, row: usize, answer: &mut ReferenceAnswer) {
-        let (Some(cached), Some(robot)) = (&self.cached, &self.robot) else {
+        let solution = self.cached.and(self.engine.solution());
+        let (Some(solution), Some(robot)) = (solution, &self.robot) else {
             answer.status = AnswerStatus::NotReady as u32;
             return;
         };
         let objects = robot.snapshot.graph.objects();
         let m = objects.len();
-        let soft = &cached.solution.soft[row * m..(row + 1) * m];
+        let soft = &solution.soft[row * m..(row + 1) * m];
         let total: f64 = soft.iter().map(|v| v.max(0.0)).sum();
         let share = |v: f64| {
             if total > 0.0 {
@@ -112,8 +113,8 @@ impl ReferenceState {
                 1.0 / m as f64
             }
         };
-        let confidence = cached.solution.confidence.get(row).copied().unwrap_or(0.0);
-        let assigned = cached.solution.assignment.get(row).copied().flatten();
+        let confidence = solution.confidence.get(row).copied().unwrap_or(0.0);
+        let assigned = solution.assignment.get(row).copied().flatten();
         answer.confidence = confidence as f32;
         if let Some(col) = assigned {
             let matched = &objects[col];
@@ -207,25 +208,6 @@ fn query_ray(query: &ReferenceQuery) -> PointingRay {
         confidence: 1.0,
         schema_version: SCHEMA_VERSION,
         reserved: 0,
-    }
-}
-
-fn blank(request_id: u64) -> ReferenceAnswer {
-    ReferenceAnswer {
-        request_id,
-        human_object_id: 0,
-        robot_track_id: 0,
-        robot_sequence: 0,
-        human_sequence: 0,
-        robot_age_us: 0,
-        human_age_us: 0,
-        position: [0.0; 3],
-        confidence: 0.0,
-        status: AnswerStatus::BadRequest as u32,
-        alternative_count: 0,
-        alternatives: [Alternative::default(); MAX_ALTERNATIVES],
-        schema_version: SCHEMA_VERSION,
-        flags: 0,
     }
 }
 

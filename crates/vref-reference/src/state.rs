@@ -1,7 +1,7 @@
 use std::time::{Duration, Instant};
 
 use vref_match::engine::Engine;
-use vref_match::{MatchError, Params, Solution};
+use vref_match::{MatchError, Params};
 use vref_scene::{Limits, Side};
 use vref_wire::{ObjectEntry, PointingRay, Ray, SnapshotHeader, ValidSnapshot, validate_snapshot};
 
@@ -21,13 +21,12 @@ pub(crate) struct Feed {
     pub received_at: Instant,
 }
 
-/// The solution for one pair of snapshots, named by their (session,
-/// sequence).
-#[derive(Debug, Clone)]
+/// The pair of snapshots the engine's solution is for, each named by its
+/// (session, sequence). The solution itself stays in the engine.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Cached {
-    pub robot: (u64, u64),
-    pub human: (u64, u64),
-    pub solution: Solution,
+    pub robot: SnapshotKey,
+    pub human: SnapshotKey,
 }
 
 /// A snapshot's (session, sequence).
@@ -43,8 +42,9 @@ pub struct ReferenceState {
     pub(crate) human: Option<Feed>,
     pub(crate) gesture: Option<Ray>,
     pub(crate) cached: Option<Cached>,
-    /// Incremental solver; `fed` names the snapshots it holds.
-    engine: Engine,
+    /// Incremental solver, holding the solution `cached` names; `fed_*`
+    /// name the snapshots it holds.
+    pub(crate) engine: Engine,
     fed_robot: Option<SnapshotKey>,
     fed_human: Option<SnapshotKey>,
     rejections: Rejections,
@@ -198,11 +198,10 @@ impl ReferenceState {
             self.engine.update(Side::Human, &human.snapshot.graph)?;
             self.fed_human = Some(hk);
         }
-        let solution = self.engine.solve()?.0.clone();
+        self.engine.solve()?;
         self.cached = Some(Cached {
             robot: rk,
             human: hk,
-            solution,
         });
         self.solves += 1;
         Ok(true)

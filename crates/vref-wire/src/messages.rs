@@ -193,6 +193,27 @@ impl ReferenceAnswer {
     /// solution at all, when the status says it could not match).
     pub const FLAG_SOLVED: u32 = 1;
 
+    /// An answer to request `request_id` with `status` and nothing found:
+    /// no object, no confidence, no alternatives, no flags.
+    pub fn empty(request_id: u64, status: AnswerStatus) -> Self {
+        Self {
+            request_id,
+            human_object_id: 0,
+            robot_track_id: 0,
+            robot_sequence: 0,
+            human_sequence: 0,
+            robot_age_us: 0,
+            human_age_us: 0,
+            position: [0.0; 3],
+            confidence: 0.0,
+            status: status as u32,
+            alternative_count: 0,
+            alternatives: [Alternative::default(); MAX_ALTERNATIVES],
+            schema_version: SCHEMA_VERSION,
+            flags: 0,
+        }
+    }
+
     /// Whether [`Self::FLAG_SOLVED`] is set.
     pub fn solved(&self) -> bool {
         self.flags & Self::FLAG_SOLVED != 0

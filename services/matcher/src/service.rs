@@ -8,8 +8,8 @@ use vref_config::Config;
 use vref_reference::ReferenceState;
 use vref_scene::Side;
 use vref_wire::ipc::{
-    StatsPublisher, create_node, open_answer_event, open_gesture, open_reference,
-    open_request_event, open_snapshot,
+    ReferenceServer, StatsPublisher, answer_waiting, create_node, open_answer_event, open_gesture,
+    open_reference, open_request_event, open_snapshot,
 };
 use vref_wire::{ObjectEntry, SnapshotHeader};
 
@@ -229,42 +229,16 @@ fn take_ray(
 }
 
 /// Answers every waiting request; returns how many.
-fn serve(
-    state: &mut ReferenceState,
-    counters: &mut Counters,
-    server: &iceoryx2::port::server::Server<
-        ipc::Service,
-        vref_wire::ReferenceQuery,
-        (),
-        vref_wire::ReferenceAnswer,
-        (),
-    >,
-) -> u64 {
-    let mut served = 0;
-    loop {
-        let request = match server.receive() {
-            Ok(Some(request)) => request,
-            Ok(None) => break,
-            Err(e) => {
-                tracing::warn!("receiving a request: {e:?}");
-                break;
-            }
-        };
-        let answer = state.answer(request.payload(), Instant::now());
-        let sent = request
-            .loan_uninit()
-            .map(|r| r.write_payload(answer))
-            .map_err(|e| format!("{e:?}"))
-            .and_then(|r| r.send().map_err(|e| format!("{e:?}")));
-        match sent {
-            Ok(()) => {
-                served += 1;
-                counters.answer(answer.status());
-            }
-            Err(e) => tracing::warn!("sending an answer: {e}"),
-        }
+fn serve(state: &mut ReferenceState, counters: &mut Counters, server: &ReferenceServer) -> u64 {
+    let served = answer_waiting(
+        server,
+        |query| state.answer(query, Instant::now()),
+        |answer| counters.answer(answer.status()),
+    );
+    for failure in &served.failures {
+        tracing::warn!("{failure}");
     }
-    served
+    served.sent
 }
 
 fn port_error(what: &str, error: &dyn std::fmt::Debug) -> anyhow::Error {

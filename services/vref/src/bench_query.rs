@@ -21,14 +21,14 @@ use vref_feed::synthetic_world;
 use vref_scene::Side;
 use vref_sim::LiveWorld;
 use vref_wire::ipc::{
-    IpcSettings, ReferenceClient, create_node, now_ns, open_answer_event, open_reference,
-    open_request_event,
+    IpcSettings, ReferenceClient, answer_waiting, create_node, now_ns, open_answer_event,
+    open_reference, open_request_event,
 };
-use vref_wire::{AnswerStatus, MAX_ALTERNATIVES, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
+use vref_wire::{AnswerStatus, ReferenceAnswer, ReferenceQuery};
 
 use crate::cli::{BenchQueryArgs, EchoServerArgs};
 use crate::failure::{Blame, Failure};
-use crate::launch::{SERVICES, Services, isolated, sibling, write_config};
+use crate::launch::{Isolation, Services, prepare};
 use crate::stdout;
 use crate::table::Table;
 
@@ -54,19 +54,13 @@ pub fn query(args: &BenchQueryArgs) -> Result<(), Failure> {
     }
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
     let (_, world) = synthetic_world(&config.feeds, Some(args.objects)).bad_input()?;
-    let binaries = SERVICES
-        .iter()
-        .map(|name| sibling(name))
-        .collect::<anyhow::Result<Vec<_>>>()
-        .runtime()?;
+    let Isolation {
+        binaries,
+        dir,
+        config: own,
+        config_path,
+    } = prepare(&config, "bench-query", "vbq").runtime()?;
     let vref = std::env::current_exe().context("locating vref").runtime()?;
-
-    let dir = tempfile::Builder::new()
-        .prefix("vref-bench-query-")
-        .tempdir()
-        .runtime()?;
-    let own = isolated(&config, dir.path(), "vbq").runtime()?;
-    let config_path = write_config(&own, dir.path()).runtime()?;
 
     // The echo first: the matcher takes longer to be ready anyway. A
     // failed start stops what was started (Drop).
@@ -395,30 +389,12 @@ fn serve_echo(ipc: &IpcSettings) -> anyhow::Result<()> {
         if let Err(e) = requests.try_wait(|_| {}) {
             tracing::warn!("draining the request listener: {e:?}");
         }
-        let mut any = false;
-        loop {
-            let request = match server.receive() {
-                Ok(Some(request)) => request,
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!("receiving a request: {e:?}");
-                    break;
-                }
-            };
-            let answer = echo(request.payload());
-            let sent = request
-                .loan_uninit()
-                .map(|r| r.write_payload(answer))
-                .map_err(|e| format!("{e:?}"))
-                .and_then(|r| r.send().map_err(|e| format!("{e:?}")));
-            match sent {
-                Ok(()) => {
-                    served += 1;
-                    any = true;
-                }
-                Err(e) => tracing::warn!("sending an answer: {e}"),
-            }
+        let done = answer_waiting(&server, echo, |_| {});
+        for failure in &done.failures {
+            tracing::warn!("{failure}");
         }
+        served += done.sent;
+        let any = done.sent > 0;
         if any && let Err(e) = answers.notify() {
             tracing::warn!("notifying answers: {e:?}");
         }
@@ -431,23 +407,11 @@ fn serve_echo(ipc: &IpcSettings) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The answer the echo gives: the request id back, nothing looked up.
+/// The answer the echo gives: the request back, nothing looked up.
 fn echo(query: &ReferenceQuery) -> ReferenceAnswer {
     ReferenceAnswer {
-        request_id: query.request_id,
         human_object_id: query.human_object_id,
-        robot_track_id: 0,
-        robot_sequence: 0,
-        human_sequence: 0,
-        robot_age_us: 0,
-        human_age_us: 0,
-        position: [0.0; 3],
-        confidence: 0.0,
-        status: AnswerStatus::NoMatch as u32,
-        alternative_count: 0,
-        alternatives: [vref_wire::Alternative::default(); MAX_ALTERNATIVES],
-        schema_version: SCHEMA_VERSION,
-        flags: 0,
+        ..ReferenceAnswer::empty(query.request_id, AnswerStatus::NoMatch)
     }
 }
 
@@ -479,7 +443,7 @@ mod tests {
             ray_direction: [0.0; 3],
             cone_half_angle: 0.0,
             kind: 0,
-            schema_version: SCHEMA_VERSION,
+            schema_version: vref_wire::SCHEMA_VERSION,
             reserved: 0,
         });
         assert_eq!(answer.request_id, 3);

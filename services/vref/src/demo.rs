@@ -13,7 +13,7 @@ use vref_wire::{AnswerStatus, ReferenceAnswer};
 
 use crate::cli::DemoArgs;
 use crate::failure::{Blame, Failure};
-use crate::launch::{SERVICES, Services, isolated, sibling, write_config};
+use crate::launch::{Isolation, Services, prepare};
 use crate::stdout;
 
 /// How long the services may take to give a first answer.
@@ -26,20 +26,14 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
     // The world the feeds publish, computed here too: it is the truth the
     // answers are checked against.
     let (_, world) = synthetic_world(&config.feeds, args.objects).bad_input()?;
-    let binaries = SERVICES
-        .iter()
-        .map(|name| sibling(name))
-        .collect::<anyhow::Result<Vec<_>>>()
-        .runtime()?;
-
     // Its own root path and prefix: the demo never meets, or disturbs,
     // services already running on this machine.
-    let dir = tempfile::Builder::new()
-        .prefix("vref-demo-")
-        .tempdir()
-        .runtime()?;
-    let demo_config = isolated(&config, dir.path(), "vdemo").runtime()?;
-    let config_path = write_config(&demo_config, dir.path()).runtime()?;
+    let Isolation {
+        binaries,
+        dir,
+        config: demo_config,
+        config_path,
+    } = prepare(&config, "demo", "vdemo").runtime()?;
 
     let mut services =
         Services::start_system(&binaries, &config_path, args.objects, dir.path()).runtime()?;

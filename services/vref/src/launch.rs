@@ -30,10 +30,41 @@ pub fn sibling(name: &str) -> anyhow::Result<PathBuf> {
     Ok(path)
 }
 
+/// Everything a command needs to run the system on its own: the service
+/// binaries, a temporary directory (logs, iceoryx2 root path, the
+/// configuration file) and the isolated configuration written there.
+pub struct Isolation {
+    pub binaries: Vec<PathBuf>,
+    pub dir: tempfile::TempDir,
+    pub config: Config,
+    pub config_path: PathBuf,
+}
+
+/// Finds the service binaries and isolates `config` in a new directory
+/// `vref-<name>-*` with iceoryx2 prefix `<tag><pid>_`: the services
+/// started never meet, or disturb, services already running here.
+pub fn prepare(config: &Config, name: &str, tag: &str) -> anyhow::Result<Isolation> {
+    let binaries = SERVICES
+        .iter()
+        .map(|service| sibling(service))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("vref-{name}-"))
+        .tempdir()?;
+    let config = isolated(config, dir.path(), tag)?;
+    let config_path = write_config(&config, dir.path())?;
+    Ok(Isolation {
+        binaries,
+        dir,
+        config,
+        config_path,
+    })
+}
+
 /// `config` with its own root path in `dir` and a prefix of its own, so
 /// that the services started never meet, or disturb, services already
 /// running on this machine. `tag` starts the prefix.
-pub fn isolated(config: &Config, dir: &Path, tag: &str) -> anyhow::Result<Config> {
+fn isolated(config: &Config, dir: &Path, tag: &str) -> anyhow::Result<Config> {
     let root = dir.join("iceoryx2");
     std::fs::create_dir_all(&root)?;
     let mut own = config.clone();
@@ -43,7 +74,7 @@ pub fn isolated(config: &Config, dir: &Path, tag: &str) -> anyhow::Result<Config
 }
 
 /// Writes `config` into `dir` for the children to read.
-pub fn write_config(config: &Config, dir: &Path) -> anyhow::Result<PathBuf> {
+fn write_config(config: &Config, dir: &Path) -> anyhow::Result<PathBuf> {
     let path = dir.join("vref.toml");
     let text = toml::to_string(config).context("writing the configuration")?;
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;

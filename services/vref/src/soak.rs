@@ -18,7 +18,7 @@ use vref_wire::{AnswerStatus, MatcherStats};
 use crate::cli::SoakArgs;
 use crate::demo::{ask, now_s};
 use crate::failure::{Blame, Failure};
-use crate::launch::{SERVICES, Services, isolated, sibling, write_config};
+use crate::launch::{Isolation, SERVICES, Services, prepare};
 use crate::stdout;
 
 /// How long the services may take to answer and solve a first time.
@@ -34,17 +34,12 @@ pub fn run(args: &SoakArgs) -> Result<(), Failure> {
     // The world the feeds publish, computed here too: queries point where
     // the person points.
     let (_, world) = synthetic_world(&config.feeds, args.objects).bad_input()?;
-    let binaries = SERVICES
-        .iter()
-        .map(|name| sibling(name))
-        .collect::<anyhow::Result<Vec<_>>>()
-        .runtime()?;
-    let dir = tempfile::Builder::new()
-        .prefix("vref-soak-")
-        .tempdir()
-        .runtime()?;
-    let own = isolated(&config, dir.path(), "vsoak").runtime()?;
-    let config_path = write_config(&own, dir.path()).runtime()?;
+    let Isolation {
+        binaries,
+        dir,
+        config: own,
+        config_path,
+    } = prepare(&config, "soak", "vsoak").runtime()?;
     let mut feed_args = vec!["--rate".to_owned(), args.feed_rate.to_string()];
     if let Some(n) = args.objects {
         feed_args.extend(["--objects".to_owned(), n.to_string()]);

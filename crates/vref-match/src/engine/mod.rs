@@ -155,6 +155,11 @@ impl Engine {
         self.appearance = appearance;
     }
 
+    /// The last solve's solution, without solving.
+    pub fn solution(&self) -> Option<&Solution> {
+        self.solved.as_ref().map(|s| &s.solution)
+    }
+
     /// Whether a solve would give something new.
     pub fn is_dirty(&self) -> bool {
         self.dirty
@@ -292,18 +297,7 @@ impl Engine {
     fn warm_start(&self) -> Option<Vec<f64>> {
         let last = self.solved.as_ref()?;
         let lm = last.robot_ids.len();
-        let rows: HashMap<u64, usize> = last
-            .human_ids
-            .iter()
-            .enumerate()
-            .map(|(k, &id)| (id, k))
-            .collect();
-        let cols: HashMap<u64, usize> = last
-            .robot_ids
-            .iter()
-            .enumerate()
-            .map(|(k, &id)| (id, k))
-            .collect();
+        let (rows, cols) = (index_by_id(&last.human_ids), index_by_id(&last.robot_ids));
         let soft = &last.solution.soft;
         let mean = soft.iter().sum::<f64>() / soft.len().max(1) as f64;
         let mut warm = Vec::with_capacity(self.human.len() * self.robot.len());
@@ -318,4 +312,9 @@ impl Engine {
         }
         Some(warm)
     }
+}
+
+/// Where each track id stands in `ids`.
+pub(super) fn index_by_id(ids: &[u64]) -> HashMap<u64, usize> {
+    ids.iter().enumerate().map(|(k, &id)| (id, k)).collect()
 }

@@ -1,5 +1,3 @@
-use std::collections::HashMap;
-
 use vref_scene::SceneGraph;
 
 /// One object of a view as the engine keeps it.
@@ -52,12 +50,8 @@ impl View {
     /// its index before the update if it is unchanged, and what changed.
     /// Distances between two unchanged objects are copied, not recomputed.
     pub fn update(&mut self, graph: &SceneGraph) -> (Vec<Option<usize>>, Change) {
-        let before: HashMap<u64, usize> = self
-            .objects
-            .iter()
-            .enumerate()
-            .map(|(k, o)| (o.id, k))
-            .collect();
+        let ids: Vec<u64> = self.objects.iter().map(|o| o.id).collect();
+        let before = super::index_by_id(&ids);
         let objects: Vec<Tracked> = graph
             .objects()
             .iter()

@@ -7,6 +7,7 @@ mod error;
 mod names;
 mod node;
 mod publishers;
+mod server;
 mod services;
 mod settings;
 mod stats;
@@ -16,6 +17,7 @@ pub use error::IpcError;
 pub use names::ServiceNames;
 pub use node::{Node, create_node, now_ns};
 pub use publishers::{GesturePublisher, SnapshotPublisher};
+pub use server::{ReferenceServer, Served, answer_waiting};
 pub use services::{
     AnswerPort, EventPort, GesturePort, ReferencePort, SnapshotPort, StatsPort, open_answer_event,
     open_gesture, open_reference, open_request_event, open_snapshot, open_stats,
