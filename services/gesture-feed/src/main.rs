@@ -7,7 +7,6 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use tracing_subscriber::EnvFilter;
 use vref_feed::{FeedArgs, Role, run_feed};
 
 /// The vref gesture feed: publishes what the person's AR headset sees as
@@ -22,13 +21,7 @@ struct Args {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    tracing_subscriber::fmt()
-        .with_env_filter(
-            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")),
-        )
-        .with_writer(std::io::stderr)
-        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
-        .init();
+    vref_logging::init("info");
     match run_feed(Role::Gesture, &args.feed) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {

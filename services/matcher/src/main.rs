@@ -12,7 +12,6 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use tracing_subscriber::EnvFilter;
 
 /// The vref matcher: answers "which robot object does the person mean?"
 /// over iceoryx2. Logs go to stderr (RUST_LOG, default info).
@@ -27,13 +26,7 @@ struct Args {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    tracing_subscriber::fmt()
-        .with_env_filter(
-            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")),
-        )
-        .with_writer(std::io::stderr)
-        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
-        .init();
+    vref_logging::init("info");
     let config = match vref_config::Config::load(args.config.as_deref()) {
         Ok((config, source)) => {
             tracing::info!(?source, "configuration");

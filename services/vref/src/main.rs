@@ -29,19 +29,12 @@ mod viz;
 use std::process::ExitCode;
 
 use clap::Parser;
-use tracing_subscriber::EnvFilter;
 
 use crate::cli::{BenchCommand, Cli, Command, ConfigCommand, ImportCommand};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    tracing_subscriber::fmt()
-        .with_env_filter(
-            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("warn")),
-        )
-        .with_writer(std::io::stderr)
-        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
-        .init();
+    vref_logging::init("warn");
     let result = match cli.command {
         Command::Eval(args) => eval::run(&args),
         Command::Import(ImportCommand::CmuHouse(args)) => import::cmu_house(&args),
