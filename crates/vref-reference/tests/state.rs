@@ -57,31 +57,44 @@ fn header(side: Side, session: u64, sequence: u64, count: usize) -> SnapshotHead
 const HUMAN_IDS: [u64; 4] = [1, 2, 3, 4];
 const ROBOT_IDS: [u64; 4] = [40, 30, 20, 10];
 
-fn state(method: &str) -> ReferenceState {
-    let settings = MatcherSettings {
+fn settings(method: &str) -> MatcherSettings {
+    MatcherSettings {
         method: method.to_owned(),
         ..MatcherSettings::default()
-    };
-    ReferenceState::new(&settings, Params::default(), Limits::default()).unwrap()
+    }
 }
 
-fn ready(now: Instant) -> ReferenceState {
-    let mut s = state("paper");
+fn state(method: &str) -> ReferenceState {
+    ReferenceState::new(&settings(method), Params::default(), Limits::default()).unwrap()
+}
+
+/// Both views of the four objects, snapshot `sequence` of each feed; the
+/// robot sees the table shifted by 0.5 m.
+fn publish_both(s: &mut ReferenceState, sequence: u64, now: Instant) {
     s.accept_snapshot(
         Side::Robot,
-        &header(Side::Robot, 1, 1, 4),
+        &header(Side::Robot, 1, sequence, 4),
         &entries(&ROBOT_IDS, 0.5),
         now,
     )
     .unwrap();
     s.accept_snapshot(
         Side::Human,
-        &header(Side::Human, 2, 1, 4),
+        &header(Side::Human, 2, sequence, 4),
         &entries(&HUMAN_IDS, 0.0),
         now,
     )
     .unwrap();
+}
+
+fn ready_with(settings: MatcherSettings, now: Instant) -> ReferenceState {
+    let mut s = ReferenceState::new(&settings, Params::default(), Limits::default()).unwrap();
+    publish_both(&mut s, 1, now);
     s
+}
+
+fn ready(now: Instant) -> ReferenceState {
+    ready_with(settings("paper"), now)
 }
 
 fn query(kind: QueryKind, id: u64, origin: [f32; 3], direction: [f32; 3]) -> ReferenceQuery {
@@ -220,20 +233,7 @@ fn a_silent_feed_makes_answers_stale_with_their_age() {
     assert_eq!(a.robot_track_id, 30, "stale, not wrong");
     assert_eq!(a.robot_age_us, 800_000);
     // Fresh snapshots make it fresh again.
-    s.accept_snapshot(
-        Side::Robot,
-        &header(Side::Robot, 1, 2, 4),
-        &entries(&ROBOT_IDS, 0.5),
-        later,
-    )
-    .unwrap();
-    s.accept_snapshot(
-        Side::Human,
-        &header(Side::Human, 2, 2, 4),
-        &entries(&HUMAN_IDS, 0.0),
-        later,
-    )
-    .unwrap();
+    publish_both(&mut s, 2, later);
     let a = s.answer(&query(QueryKind::HumanObject, 2, [0.0; 3], [0.0; 3]), later);
     assert_eq!((a.status, a.robot_sequence), (AnswerStatus::Ok as u32, 2));
 }
@@ -293,11 +293,7 @@ fn rejected_snapshots_are_counted_and_the_last_good_one_stays() {
 
 #[test]
 fn unknown_method_is_refused() {
-    let settings = MatcherSettings {
-        method: "magic".to_owned(),
-        ..MatcherSettings::default()
-    };
-    assert!(ReferenceState::new(&settings, Params::default(), Limits::default()).is_err());
+    assert!(ReferenceState::new(&settings("magic"), Params::default(), Limits::default()).is_err());
 }
 
 #[test]
@@ -327,25 +323,6 @@ fn answers_say_whether_they_needed_a_solve() {
     assert_eq!(s.solves(), 2);
 }
 
-fn ready_with(settings: MatcherSettings, now: Instant) -> ReferenceState {
-    let mut s = ReferenceState::new(&settings, Params::default(), Limits::default()).unwrap();
-    s.accept_snapshot(
-        Side::Robot,
-        &header(Side::Robot, 1, 1, 4),
-        &entries(&ROBOT_IDS, 0.5),
-        now,
-    )
-    .unwrap();
-    s.accept_snapshot(
-        Side::Human,
-        &header(Side::Human, 2, 1, 4),
-        &entries(&HUMAN_IDS, 0.0),
-        now,
-    )
-    .unwrap();
-    s
-}
-
 #[test]
 fn the_default_method_answers_with_its_calibrated_confidence() {
     let now = Instant::now();
@@ -371,9 +348,8 @@ fn answers_below_the_ambiguity_threshold_are_ambiguous_with_alternatives() {
     let q = query(QueryKind::HumanObject, HUMAN_IDS[0], [0.0; 3], [0.0; 3]);
     let at = |threshold: f64| {
         let settings = MatcherSettings {
-            method: "paper".to_owned(),
             ambiguity_threshold: threshold,
-            ..MatcherSettings::default()
+            ..settings("paper")
         };
         ready_with(settings, now).answer(&q, now)
     };
