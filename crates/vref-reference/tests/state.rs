@@ -368,3 +368,102 @@ fn answers_below_the_ambiguity_threshold_are_ambiguous_with_alternatives() {
             .all(|alt| alt.robot_track_id != 0 && alt.robot_track_id != unsure.robot_track_id)
     );
 }
+
+/// Counts heap allocations made by the thread that enabled counting, so
+/// the query path's "no allocation" can be checked while the test
+/// harness's other threads allocate as they like.
+mod counting {
+    use std::alloc::{GlobalAlloc, Layout, System};
+    use std::cell::Cell;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    pub struct Counting;
+
+    static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+    thread_local! {
+        static ENABLED: Cell<bool> = const { Cell::new(false) };
+    }
+
+    fn note() {
+        // `try_with`: the allocator may run while thread locals are torn down.
+        if ENABLED.try_with(Cell::get).unwrap_or(false) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    // SAFETY: every call is passed on unchanged to the system allocator;
+    // the counter neither allocates nor touches the memory.
+    #[allow(unsafe_code)]
+    unsafe impl GlobalAlloc for Counting {
+        unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+            note();
+            // SAFETY: the caller's contract is System's contract.
+            unsafe { System.alloc(layout) }
+        }
+        unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+            note();
+            // SAFETY: as above.
+            unsafe { System.alloc_zeroed(layout) }
+        }
+        unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+            note();
+            // SAFETY: as above.
+            unsafe { System.realloc(ptr, layout, new_size) }
+        }
+        unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+            // SAFETY: as above.
+            unsafe { System.dealloc(ptr, layout) }
+        }
+    }
+
+    /// Allocations made by this thread while `f` ran.
+    pub fn allocations_in<T>(f: impl FnOnce() -> T) -> (T, usize) {
+        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        ENABLED.with(|e| e.set(true));
+        let value = f();
+        ENABLED.with(|e| e.set(false));
+        (value, ALLOCATIONS.load(Ordering::Relaxed) - before)
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: counting::Counting = counting::Counting;
+
+#[test]
+fn cached_answers_allocate_nothing() {
+    for method in ["rigid", "paper"] {
+        let now = Instant::now();
+        let mut s = ready_with(settings(method), now);
+        let ray = PointingRay {
+            session: 5,
+            sequence: 1,
+            timestamp_ns: 0,
+            origin: [0.0; 3],
+            direction: WORLD[3],
+            cone_half_angle: 0.05,
+            confidence: 1.0,
+            schema_version: SCHEMA_VERSION,
+            reserved: 0,
+        };
+        s.accept_ray(&ray).unwrap();
+        let queries = [
+            query(QueryKind::HumanObject, 2, [0.0; 3], [0.0; 3]),
+            query(QueryKind::Ray, 0, [0.0; 3], WORLD[2]),
+            query(QueryKind::LatestGesture, 0, [0.0; 3], [0.0; 3]),
+            query(QueryKind::HumanObject, 99, [0.0; 3], [0.0; 3]),
+        ];
+        let (first, solving) = counting::allocations_in(|| s.answer(&queries[0], now));
+        assert!(first.solved());
+        assert!(solving > 0, "{method}: the solve itself allocates");
+        for q in &queries {
+            let (answer, allocations) = counting::allocations_in(|| s.answer(q, now));
+            assert!(!answer.solved(), "{method}: cached");
+            assert_eq!(
+                allocations, 0,
+                "{method}: query kind {} allocated {allocations} times",
+                q.kind
+            );
+        }
+    }
+}
