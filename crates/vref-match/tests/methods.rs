@@ -67,14 +67,7 @@ fn scene() -> impl Strategy<Value = (RawScene, u64, u64)> {
 }
 
 proptest! {
-    // A fixed seed: `rigid` misses a few random noiseless scenes (about one
-    // run of 48 cases in twelve fails, README "vref's own method"), which
-    // with a random seed would make CI fail at random. The same 48 cases
-    // every run still catch any change that breaks them.
-    #![proptest_config(ProptestConfig {
-        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5eed_0001),
-        ..ProptestConfig::with_cases(48)
-    })]
+    #![proptest_config(ProptestConfig::with_cases(48))]
 
     #[test]
     fn noiseless_rigid_motion_is_matched_perfectly((raw, s1, _) in scene(), motion in rigid_motion()) {
@@ -82,7 +75,22 @@ proptest! {
         let ids: Vec<u64> = pair.human.objects().iter().map(|o| o.id).collect();
         for method in Method::ALL {
             let score = score_scene(&ids, &id_pairs(method, &pair), &pair.ground_truth);
-            prop_assert_eq!(score.accuracy, 1.0, "{} on {:?}", method, raw);
+            if method == Method::Rigid {
+                // `rigid` may abstain on a scene of four objects where a
+                // wrong motion fits nearly as well as the right one at its
+                // residual scale (about one random scene in 1700), but
+                // never gives a wrong partner, and without abstention it
+                // gets every object right.
+                prop_assert_eq!(score.precision, 1.0, "{} on {:?}", method, raw);
+                let mut sure = params();
+                sure.rigid.abstain_share = 0.0;
+                let problem = Problem::new(&pair.human, &pair.robot, sure.beta).unwrap();
+                let pairs = solve(method, &problem, &sure).unwrap().id_pairs(&pair.human, &pair.robot);
+                let score = score_scene(&ids, &pairs, &pair.ground_truth);
+                prop_assert_eq!(score.accuracy, 1.0, "{} without abstention on {:?}", method, raw);
+            } else {
+                prop_assert_eq!(score.accuracy, 1.0, "{} on {:?}", method, raw);
+            }
         }
     }
 

@@ -38,6 +38,16 @@ pub struct RigidParams {
     /// share of the largest possible (every object of the smaller view
     /// explained with zero cost).
     pub decisive_share: f64,
+    /// Hypotheses scored before the search may end early, for a scene of
+    /// 8 x 8 objects; scaled by 64 / (n m) for others. In a scene of a few
+    /// objects a wrong motion can explain nearly everything too (and its
+    /// hypotheses are cheap); in a large one that is ever less likely (and
+    /// each hypothesis costs n m).
+    pub decisive_after: usize,
+    /// Samples with short edges are drawn too whenever the search with
+    /// long edges found no decisive motion (false: only when it found too
+    /// few motions to keep).
+    pub short_edges_always: bool,
     /// Best hypotheses of the search that are locally optimised (re-fitted
     /// to the pairs they explain) before the best is chosen.
     pub local_optimisations: usize,
@@ -51,6 +61,15 @@ pub struct RigidParams {
     /// is below this is not given: the object is answered "no partner".
     /// 0 never abstains.
     pub abstain_share: f64,
+    /// Abstaining needs a real dispute: the best motion's probability
+    /// against the runner-up must be below this (1 abstains whenever the
+    /// runner-up pairs the row otherwise). A row share lowered by look-alike
+    /// neighbours alone is not a dispute between motions.
+    pub abstain_motion: f64,
+    /// When abstention would leave a scene without any partner, the most
+    /// confident disputed partner is given all the same: an empty answer is
+    /// precision 0 and tells the robot nothing.
+    pub never_empty: bool,
     /// Refuse motions that put the two cameras on opposite sides of the
     /// plane the objects stand on (see `Side`).
     pub same_side: bool,
@@ -69,10 +88,14 @@ impl Default for RigidParams {
             sigma_factor: 0.4,
             unmatched_cost: 4.5,
             decisive_share: 0.8,
+            decisive_after: 100,
+            short_edges_always: true,
             local_optimisations: 8,
             refinements: 3,
             motion_temperature: 2.0,
             abstain_share: 0.65,
+            abstain_motion: 0.99,
+            never_empty: true,
             same_side: true,
             seed: 0x5eed,
             calibration: Calibration::default(),
@@ -108,6 +131,13 @@ impl RigidParams {
                     expected: "at least 1",
                 });
             }
+        }
+        if !(0.0..=1.0).contains(&self.abstain_motion) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.abstain_motion",
+                value: self.abstain_motion,
+                expected: "in [0, 1]",
+            });
         }
         if !(0.0..=1.0).contains(&self.abstain_share) {
             return Err(MatchError::BadParameter {
@@ -254,6 +284,10 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         None => (1.0, None),
     };
     let mut confidence = Vec::with_capacity(n);
+    // The best of the partners abstention takes back, in case it takes
+    // them all: (raw share, row, partner).
+    let mut withdrawn: Option<(f64, usize, usize)> = None;
+    let disputed = p_best < rp.abstain_motion;
     for i in 0..n {
         let agrees = alternative
             .as_ref()
@@ -268,11 +302,28 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         // this unsure is not given (precision); the object is answered "no
         // partner" with that answer's share. Decided on the raw share, so
         // that the calibration is fitted to the answers as finally given.
-        if assignment[i].is_some() && !agrees && raw < rp.abstain_share {
+        if let Some(j) = assignment[i]
+            && disputed
+            && !agrees
+            && raw < rp.abstain_share
+        {
+            if withdrawn.is_none_or(|(best, _, _)| raw > best) {
+                withdrawn = Some((raw, i, j));
+            }
             assignment[i] = None;
             raw = unmatched[i];
         }
-        confidence.push(rp.calibration.probability(raw, assignment[i].is_none()));
+        confidence.push(raw);
+    }
+    if rp.never_empty
+        && assignment.iter().all(Option::is_none)
+        && let Some((raw, i, j)) = withdrawn
+    {
+        assignment[i] = Some(j);
+        confidence[i] = raw;
+    }
+    for (c, a) in confidence.iter_mut().zip(&assignment) {
+        *c = rp.calibration.probability(*c, a.is_none());
     }
     Solution {
         soft,
@@ -350,12 +401,17 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
     // A motion that explains nearly every object nearly perfectly leaves
     // nothing for further hypotheses to find.
     let decisive = rp.decisive_share * rp.unmatched_cost * n.min(m) as f64;
+    let decisive_after = rp.decisive_after.saturating_mul(64).div_ceil(n * m);
     // Sample edges shorter than the tolerance give poorly determined
     // rotations and are avoided, unless a sparse scene has too few samples
     // without them to fill the kept few.
     let keep = rp.local_optimisations.max(1);
+    let mut settled = false;
     for min_edge in [tolerance, 0.0] {
-        if top.len() >= keep {
+        // Without a decisive motion the short edges get their turn too: in
+        // a scene of a few objects the right triangle may have no edge
+        // longer than the tolerance, while wrong ones fill the kept few.
+        if settled || (!rp.short_edges_always && top.len() >= keep) {
             break;
         }
         let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
@@ -365,6 +421,7 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
         };
         let mut scored = 0;
         let mut attempts = 0;
+
         while scored < rp.hypotheses && attempts < max_attempts {
             attempts += 1;
             // Guided sampling: the second and third pairs are drawn only among
@@ -412,7 +469,8 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
             if let Some((score, _)) = greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch)
             {
                 keep_best(&mut top, keep, score, motion, same);
-                if score >= decisive {
+                if score >= decisive && scored >= decisive_after {
+                    settled = true;
                     break;
                 }
             }
@@ -450,10 +508,20 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
     }
     refined.sort_by(|a, b| b.0.total_cmp(&a.0));
     let (score, motion) = *refined.first()?;
+    // The runner-up must pair objects otherwise: a motion that the local
+    // optimisation left short of the same pairs' fit is the best motion
+    // again, only fitted worse, and would dispute nothing real.
+    let pairs_of = |m: &RigidMotion, scratch: &mut Scratch| {
+        greedy(costs, m, rp.unmatched_cost, f64::NEG_INFINITY, scratch).map(|(_, mut p)| {
+            p.sort_unstable();
+            p
+        })
+    };
+    let best_pairs = pairs_of(&motion, &mut scratch);
     let alternative = refined
         .iter()
         .skip(1)
-        .find(|(_, other)| !same(&motion, other))
+        .find(|(_, other)| !same(&motion, other) && pairs_of(other, &mut scratch) != best_pairs)
         .copied();
     Some(Found {
         motion,
