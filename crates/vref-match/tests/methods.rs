@@ -78,7 +78,7 @@ proptest! {
             if method == Method::Rigid {
                 // `rigid` may abstain on a scene of four objects where a
                 // wrong motion fits nearly as well as the right one at its
-                // residual scale (about one random scene in 1700), but
+                // residual scale (4 of 12000 random scenes), but
                 // never gives a wrong partner, and without abstention it
                 // gets every object right.
                 prop_assert_eq!(score.precision, 1.0, "{} on {:?}", method, raw);

@@ -56,6 +56,9 @@ pub struct RigidParams {
     /// Score difference (in nats: scores are log-likelihood gains) that
     /// makes the best motion e times likelier than the runner-up.
     pub motion_temperature: f64,
+    /// Motions that pair objects otherwise weighed against the best (1:
+    /// the runner-up alone).
+    pub rivals: usize,
     /// A partner that the runner-up motion pairs otherwise and whose raw
     /// share (its row's softmax share times the best motion's probability)
     /// is below this is not given: the object is answered "no partner".
@@ -92,8 +95,9 @@ impl Default for RigidParams {
             short_edges_always: true,
             local_optimisations: 8,
             refinements: 3,
-            motion_temperature: 2.0,
-            abstain_share: 0.65,
+            motion_temperature: 1.0,
+            rivals: 7,
+            abstain_share: 0.7,
             abstain_motion: 0.99,
             never_empty: true,
             same_side: true,
@@ -269,30 +273,35 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     }
     let (soft, unmatched) = row_shares(&cost, n, m, rp.unmatched_cost);
 
-    // The runner-up motion: where it pairs a row differently, that row's
-    // answer is only as sure as the best motion is against it.
-    let (p_best, alternative) = match &found {
-        Some(f) => match f.alternative {
-            Some((score, alt)) => {
-                let p = 1.0 / (1.0 + (-(f.score - score) / rp.motion_temperature).exp());
-                let alt_assignment = (p < 1.0 - 1e-9)
-                    .then(|| assign(&costs.matrix(Some(&alt)), n, m, rp.unmatched_cost));
-                (p, alt_assignment)
+    // The rival motions: each is weighed against the best by its score,
+    // and a row's answer is only as sure as the motions that give it.
+    let mut weights = Vec::new();
+    let mut rivals = Vec::new();
+    if let Some(f) = &found {
+        for &(score, alt) in &f.alternatives {
+            let w = ((score - f.score) / rp.motion_temperature).exp();
+            if w > 1e-9 {
+                weights.push(w);
+                rivals.push(assign(&costs.matrix(Some(&alt)), n, m, rp.unmatched_cost));
             }
-            None => (1.0, None),
-        },
-        None => (1.0, None),
-    };
+        }
+    }
+    let total = 1.0 + weights.iter().sum::<f64>();
+    let p_best = 1.0 / total;
     let mut confidence = Vec::with_capacity(n);
     // The best of the partners abstention takes back, in case it takes
     // them all: (raw share, row, partner).
     let mut withdrawn: Option<(f64, usize, usize)> = None;
     let disputed = p_best < rp.abstain_motion;
     for i in 0..n {
-        let agrees = alternative
-            .as_ref()
-            .is_none_or(|alt| alt[i] == assignment[i]);
-        let motion_share = if agrees { 1.0 } else { p_best };
+        let against: f64 = rivals
+            .iter()
+            .zip(&weights)
+            .filter(|(alt, _)| alt[i] != assignment[i])
+            .map(|(_, w)| w)
+            .sum();
+        let agrees = against == 0.0;
+        let motion_share = 1.0 - against / total;
         let mut raw = motion_share
             * match assignment[i] {
                 Some(j) => soft[i * m + j],
@@ -517,25 +526,35 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
             p
         })
     };
-    let best_pairs = pairs_of(&motion, &mut scratch);
-    let alternative = refined
-        .iter()
-        .skip(1)
-        .find(|(_, other)| !same(&motion, other) && pairs_of(other, &mut scratch) != best_pairs)
-        .copied();
+    let mut seen = vec![pairs_of(&motion, &mut scratch)];
+    let mut alternatives = Vec::new();
+    for &(other_score, other) in refined.iter().skip(1) {
+        if alternatives.len() >= rp.rivals {
+            break;
+        }
+        if same(&motion, &other) {
+            continue;
+        }
+        let pairs = pairs_of(&other, &mut scratch);
+        if !seen.contains(&pairs) {
+            seen.push(pairs);
+            alternatives.push((other_score, other));
+        }
+    }
     Some(Found {
         motion,
         score,
-        alternative,
+        alternatives,
     })
 }
 
-/// The search's answer: the best motion, its score, and the best motion
-/// that pairs objects differently, with its score.
+/// The search's answer: the best motion, its score, and the best few
+/// motions that pair objects otherwise (each differently from the others),
+/// with their scores, best first.
 struct Found {
     motion: RigidMotion,
     score: f64,
-    alternative: Option<(f64, RigidMotion)>,
+    alternatives: Vec<(f64, RigidMotion)>,
 }
 
 /// Inserts `(score, motion)` into `top`, which holds the `k` best
