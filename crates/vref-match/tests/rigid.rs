@@ -254,7 +254,13 @@ fn a_scene_two_motions_explain_equally_well_still_gets_a_partner() {
 
 /// A captured scene: positions, features, the rotation (column-major),
 /// the translation, and the seed of the robot view's order.
-type Captured = (&'static [[f64; 3]], &'static [[f32; 8]], [f64; 9], [f64; 3], u64);
+type Captured = (
+    &'static [[f64; 3]],
+    &'static [[f32; 8]],
+    [f64; 9],
+    [f64; 3],
+    u64,
+);
 
 /// Random noiseless scenes on which `rigid` got objects wrong before its
 /// search was fixed (captured from the property tests of methods.rs): the
