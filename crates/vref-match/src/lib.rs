@@ -16,6 +16,7 @@ pub mod bench;
 mod calibration;
 mod candidates;
 mod distances;
+mod edge_product;
 pub mod engine;
 mod error;
 mod evaluation;

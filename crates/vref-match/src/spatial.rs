@@ -2,7 +2,11 @@ use std::cell::OnceCell;
 
 use vref_scene::SceneGraph;
 
-/// Kernel tables above this many entries (8 bytes each) are not stored;
+use crate::edge_product::{
+    Kernel, block_slot, block_slots, edge_product, extend_kernel_row, padded,
+};
+
+/// Kernel tables above this many entries (4 bytes each) are not stored;
 /// their values are recomputed in every product instead.
 const MAX_TABLE_ENTRIES: usize = 1 << 23;
 
@@ -29,11 +33,16 @@ pub struct SpatialAffinity {
     beta: f64,
     human_edges: Vec<Edge>,
     robot_edges: Vec<Edge>,
-    /// Kernel values, row `e` for human edge `e`, column `f` for robot edge
-    /// `f`, built on the first product (a method that never multiplies by
+    /// The robot edge length of each column of the table, contiguous for
+    /// the table's vectorised `exp`: the robot edges in order for an edge
+    /// list; for a fully connected robot graph the layout of
+    /// [`block_slots`], infinite (kernel 0) on its padding.
+    slot_lengths: Vec<f64>,
+    /// Kernel values, row `e` for human edge `e`, columns as
+    /// `slot_lengths`, built on the first product (a method that never multiplies by
     /// S, like `appearance`, never pays for it); never built when larger
     /// than `table_limit` entries.
-    table: OnceCell<Vec<f64>>,
+    table: OnceCell<Vec<Kernel>>,
     table_limit: usize,
     /// Whether the robot graph is fully connected (no edge list), which
     /// allows the vectorised product.
@@ -49,27 +58,31 @@ impl SpatialAffinity {
     fn with_table_limit(human: &SceneGraph, robot: &SceneGraph, beta: f64, limit: usize) -> Self {
         let human_edges = edges_of(human);
         let robot_edges = edges_of(robot);
+        let robot_complete = robot.edges().is_none();
         Self {
             n: human.len(),
             m: robot.len(),
             beta,
             human_edges,
+            slot_lengths: slot_lengths(&robot_edges, robot.len(), robot_complete),
             robot_edges,
             table: OnceCell::new(),
             table_limit: limit,
-            robot_complete: robot.edges().is_none(),
+            robot_complete,
         }
     }
 
     /// Fully connected graphs given by their distance matrices (`n x n`
     /// and `m x m`, row-major).
     pub fn from_distances(n: usize, m: usize, human: &[f64], robot: &[f64], beta: f64) -> Self {
+        let robot_edges = complete_edges(m, robot);
         Self {
             n,
             m,
             beta,
             human_edges: complete_edges(n, human),
-            robot_edges: complete_edges(m, robot),
+            slot_lengths: slot_lengths(&robot_edges, m, true),
+            robot_edges,
             table: OnceCell::new(),
             table_limit: MAX_TABLE_ENTRIES,
             robot_complete: true,
@@ -90,40 +103,54 @@ impl SpatialAffinity {
     ) -> Self {
         let (n, m) = (human_old.len(), robot_old.len());
         let next = Self::from_distances(n, m, human, robot, previous.beta);
-        let entries = next
-            .human_edges
-            .len()
-            .saturating_mul(next.robot_edges.len());
-        let Some(old_table) = previous.table().filter(|_| entries <= next.table_limit) else {
+        let width = next.slot_lengths.len();
+        let entries = next.human_edges.len().saturating_mul(width);
+        let Some(old_table) = previous
+            .table()
+            .filter(|_| entries <= next.table_limit && previous.robot_complete)
+        else {
             return next;
         };
         let old_edge = |edge: &Edge, map: &[Option<usize>], count: usize| -> Option<usize> {
             let (i, j) = (map[edge.i]?, map[edge.j]?);
             Some(complete_edge_index(i.min(j), i.max(j), count))
         };
-        let robot_slots: Vec<Option<usize>> = next
-            .robot_edges
-            .iter()
-            .map(|f| old_edge(f, robot_old, previous.m))
+        // The old table's column of each of the new one's, where both
+        // robot objects kept their position.
+        let old_columns: Vec<Option<usize>> = block_slots(m)
+            .into_iter()
+            .map(|slot| {
+                let (a, b) = slot?;
+                let (a, b) = (robot_old[a]?, robot_old[b]?);
+                Some(block_slot(a.min(b), a.max(b), previous.m))
+            })
             .collect();
-        let old_width = previous.robot_edges.len();
+        // The new columns' lengths, for the kernel values computed anew by
+        // the same (vectorised, dispatched) code as a fresh table's, so that
+        // the table equals a fresh one bit for bit.
+        let new_lengths: Vec<f64> = next
+            .slot_lengths
+            .iter()
+            .zip(&old_columns)
+            .filter(|(_, column)| column.is_none())
+            .map(|(&length, _)| length)
+            .collect();
+        let old_width = previous.slot_lengths.len();
         let mut table = Vec::with_capacity(entries);
+        let mut fresh = Vec::with_capacity(new_lengths.len());
         for e in &next.human_edges {
             match old_edge(e, human_old, previous.n) {
                 Some(oe) => {
                     let old_row = &old_table[oe * old_width..(oe + 1) * old_width];
-                    table.extend(next.robot_edges.iter().zip(&robot_slots).map(|(f, slot)| {
-                        match slot {
-                            Some(of) => old_row[*of],
-                            None => kernel(e.length, f.length, next.beta),
-                        }
+                    fresh.clear();
+                    extend_kernel_row(&mut fresh, e.length, &new_lengths, next.beta);
+                    let mut fresh = fresh.iter();
+                    table.extend(old_columns.iter().map(|column| match column {
+                        Some(c) => old_row[*c],
+                        None => fresh.next().copied().unwrap_or(0.0),
                     }));
                 }
-                None => table.extend(
-                    next.robot_edges
-                        .iter()
-                        .map(|f| kernel(e.length, f.length, next.beta)),
-                ),
+                None => extend_kernel_row(&mut table, e.length, &next.slot_lengths, next.beta),
             }
         }
         // A fresh cell cannot be full: `set` only fails on a full cell.
@@ -132,22 +159,18 @@ impl SpatialAffinity {
     }
 
     /// The kernel table, built now if it has not been and may be.
-    fn table(&self) -> Option<&[f64]> {
+    fn table(&self) -> Option<&[Kernel]> {
         let entries = self
             .human_edges
             .len()
-            .saturating_mul(self.robot_edges.len());
+            .saturating_mul(self.slot_lengths.len());
         if entries > self.table_limit {
             return None;
         }
         let table = self.table.get_or_init(|| {
             let mut table = Vec::with_capacity(entries);
             for e in &self.human_edges {
-                table.extend(
-                    self.robot_edges
-                        .iter()
-                        .map(|f| kernel(e.length, f.length, self.beta)),
-                );
+                extend_kernel_row(&mut table, e.length, &self.slot_lengths, self.beta);
             }
             table
         });
@@ -169,14 +192,32 @@ impl SpatialAffinity {
         }
     }
 
-    /// Robot graph fully connected: its edges come in the order
-    /// `(0,1), (0,2), .., (0,m-1), (1,2), ..`, so the robot edges `{a, b > a}`
-    /// of one human edge `{i, j}` touch the contiguous tails `b > a` of rows
-    /// i and j of x and out. The four updates of one kernel value then
-    /// become two dot products and two axpys over contiguous slices, which
-    /// the compiler vectorises, instead of four scattered read-modify-writes.
+    /// Robot graph fully connected: one human edge `{i, j}` adds `K x_j`
+    /// to row i of out and `K x_i` to row j, K symmetric, held as
+    /// [`edge_product`] lays it out, whose loops run over whole vectors of
+    /// contiguous row slices instead of four scattered read-modify-writes
+    /// per kernel value. Rows whose length is not whole vectors are copied
+    /// into zero-padded rows first.
     fn mul_complete(&self, x: &[f64], out: &mut [f64]) {
-        let m = self.m;
+        let (n, m, p) = (self.n, self.m, padded(self.m));
+        if p == m {
+            self.mul_padded(x, out);
+            return;
+        }
+        let mut x_padded = vec![0.0; n * p];
+        let mut out_padded = vec![0.0; n * p];
+        for (to, from) in x_padded.chunks_exact_mut(p).zip(x.chunks_exact(m)) {
+            to[..m].copy_from_slice(from);
+        }
+        self.mul_padded(&x_padded, &mut out_padded);
+        for (to, from) in out.chunks_exact_mut(m).zip(out_padded.chunks_exact(p)) {
+            to.copy_from_slice(&from[..m]);
+        }
+    }
+
+    /// [`SpatialAffinity::mul_complete`] on rows of [`padded`] length.
+    fn mul_padded(&self, x: &[f64], out: &mut [f64]) {
+        let (m, p) = (self.m, padded(self.m));
         let mut scratch = Vec::new();
         for (e, he) in self.human_edges.iter().enumerate() {
             let (i, j) = (he.i.min(he.j), he.i.max(he.j));
@@ -184,28 +225,10 @@ impl SpatialAffinity {
                 continue;
             }
             let row = self.kernel_row(e, &mut scratch);
-            let (low, high) = out.split_at_mut(j * m);
-            let (oi, oj) = (&mut low[i * m..(i + 1) * m], &mut high[..m]);
-            let (xi, xj) = (&x[i * m..(i + 1) * m], &x[j * m..(j + 1) * m]);
-            let mut offset = 0;
-            for a in 0..m {
-                let tail = m - a - 1;
-                let k = &row[offset..offset + tail];
-                offset += tail;
-                let (oia, oi_tail) = oi[a..].split_at_mut(1);
-                let (oja, oj_tail) = oj[a..].split_at_mut(1);
-                let (si, sj) = edge_block(
-                    k,
-                    &xi[a + 1..],
-                    &xj[a + 1..],
-                    xi[a],
-                    xj[a],
-                    oi_tail,
-                    oj_tail,
-                );
-                oia[0] += si;
-                oja[0] += sj;
-            }
+            let (low, high) = out.split_at_mut(j * p);
+            let (oi, oj) = (&mut low[i * p..(i + 1) * p], &mut high[..p]);
+            let (xi, xj) = (&x[i * p..(i + 1) * p], &x[j * p..(j + 1) * p]);
+            edge_product(m, row, xi, xj, oi, oj);
         }
     }
 
@@ -220,6 +243,7 @@ impl SpatialAffinity {
                 if k == 0.0 {
                     continue;
                 }
+                let k = f64::from(k);
                 let (a, b) = (re.i, re.j);
                 out[ri + a] += k * x[rj + b];
                 out[rj + b] += k * x[ri + a];
@@ -231,18 +255,14 @@ impl SpatialAffinity {
 
     /// The kernel values of human edge `e` against every robot edge: a row
     /// of the table, or computed into `scratch` when there is no table.
-    fn kernel_row<'a>(&'a self, e: usize, scratch: &'a mut Vec<f64>) -> &'a [f64] {
-        let width = self.robot_edges.len();
+    fn kernel_row<'a>(&'a self, e: usize, scratch: &'a mut Vec<Kernel>) -> &'a [Kernel] {
+        let width = self.slot_lengths.len();
         match self.table() {
             Some(table) => &table[e * width..(e + 1) * width],
             None => {
                 let length = self.human_edges[e].length;
                 scratch.clear();
-                scratch.extend(
-                    self.robot_edges
-                        .iter()
-                        .map(|f| kernel(length, f.length, self.beta)),
-                );
+                extend_kernel_row(scratch, length, &self.slot_lengths, self.beta);
                 scratch
             }
         }
@@ -257,57 +277,19 @@ impl SpatialAffinity {
     }
 }
 
-/// Lanes of the independent partial sums in [`edge_block`]: enough for the
-/// compiler to fill SIMD registers without reassociating one float sum.
-const LANES: usize = 4;
-
-/// For one human edge `{i, j}` and robot object `a`, the robot edges
-/// `{a, b}` for `b > a` with kernel values `k`: adds `k[b] x_j[a]` to
-/// `out_i[b]` and `k[b] x_i[a]` to `out_j[b]`, and returns
-/// `(sum_b k[b] x_j[b], sum_b k[b] x_i[b])`, the updates of `out_i[a]` and
-/// `out_j[a]`. All slices start at `b = a + 1`.
-#[allow(clippy::too_many_arguments)]
-fn edge_block(
-    k: &[f64],
-    xi: &[f64],
-    xj: &[f64],
-    xia: f64,
-    xja: f64,
-    oi: &mut [f64],
-    oj: &mut [f64],
-) -> (f64, f64) {
-    let len = k.len();
-    let (xi, xj) = (&xi[..len], &xj[..len]);
-    let (oi, oj) = (&mut oi[..len], &mut oj[..len]);
-    let whole = len / LANES * LANES;
-    let (mut si, mut sj) = ([0.0; LANES], [0.0; LANES]);
-    for ((((kc, xic), xjc), oic), ojc) in k[..whole]
-        .chunks_exact(LANES)
-        .zip(xi.chunks_exact(LANES))
-        .zip(xj.chunks_exact(LANES))
-        .zip(oi.chunks_exact_mut(LANES))
-        .zip(oj.chunks_exact_mut(LANES))
-    {
-        for l in 0..LANES {
-            si[l] += kc[l] * xjc[l];
-            sj[l] += kc[l] * xic[l];
-            oic[l] += kc[l] * xja;
-            ojc[l] += kc[l] * xia;
-        }
+/// The robot lengths of the table's columns (see
+/// [`SpatialAffinity::slot_lengths`]).
+fn slot_lengths(robot_edges: &[Edge], m: usize, complete: bool) -> Vec<f64> {
+    if !complete {
+        return robot_edges.iter().map(|f| f.length).collect();
     }
-    let (mut si, mut sj) = (si.iter().sum::<f64>(), sj.iter().sum::<f64>());
-    for t in whole..len {
-        si += k[t] * xj[t];
-        sj += k[t] * xi[t];
-        oi[t] += k[t] * xja;
-        oj[t] += k[t] * xia;
-    }
-    (si, sj)
-}
-
-fn kernel(d: f64, d2: f64, beta: f64) -> f64 {
-    let diff = d - d2;
-    (-(diff * diff) / beta).exp()
+    block_slots(m)
+        .into_iter()
+        .map(|slot| match slot {
+            Some((a, b)) => robot_edges[complete_edge_index(a, b, m)].length,
+            None => f64::INFINITY,
+        })
+        .collect()
 }
 
 /// Edges `(0,1), (0,2), .., (1,2), ..` of a complete graph of `n` objects
@@ -362,6 +344,48 @@ mod tests {
             })
             .collect();
         SceneGraph::new(objects, None, &Limits::default()).unwrap()
+    }
+
+    #[test]
+    fn updated_table_equals_a_fresh_one() {
+        let (n, m) = (7, 6);
+        let distances = |count: usize, shift: f64| -> Vec<f64> {
+            (0..count * count)
+                .map(|k| {
+                    let (i, j) = (k / count, k % count);
+                    if i == j {
+                        0.0
+                    } else {
+                        0.1 * (i + j) as f64 + shift * (i * j) as f64
+                    }
+                })
+                .collect()
+        };
+        let previous =
+            SpatialAffinity::from_distances(n, m, &distances(n, 0.01), &distances(m, 0.02), 0.3);
+        assert!(previous.table().is_some());
+        // Human object 2 and robot object 4 moved (their distances change);
+        // the others kept their index.
+        let human_old: Vec<Option<usize>> = (0..n).map(|i| (i != 2).then_some(i)).collect();
+        let robot_old: Vec<Option<usize>> = (0..m).map(|a| (a != 4).then_some(a)).collect();
+        let mut human = distances(n, 0.01);
+        let mut robot = distances(m, 0.02);
+        for k in 0..n {
+            if k != 2 {
+                human[2 * n + k] += 0.05;
+                human[k * n + 2] += 0.05;
+            }
+        }
+        for k in 0..m {
+            if k != 4 {
+                robot[4 * m + k] += 0.07;
+                robot[k * m + 4] += 0.07;
+            }
+        }
+        let updated = SpatialAffinity::updated(&previous, &human_old, &robot_old, &human, &robot);
+        let fresh = SpatialAffinity::from_distances(n, m, &human, &robot, 0.3);
+        assert_eq!(updated.table(), fresh.table());
+        assert_ne!(updated.table(), previous.table());
     }
 
     #[test]

@@ -4,6 +4,11 @@ use proptest::prelude::*;
 use vref_match::SpatialAffinity;
 use vref_scene::{Limits, SceneGraph, SceneObject};
 
+/// How far a product may be from the definition, relative: the kernel
+/// values are stored as f32 (within 6e-8 of the f64 value) and summed in
+/// f64. The issue asks for 1e-6.
+const TOLERANCE: f64 = 1e-7;
+
 /// S exactly as ALGORITHMS.md Eq. 3 writes it, as a dense (nm)^2 matrix
 /// over the row-major layout `i * m + a`.
 fn dense(h: &SceneGraph, r: &SceneGraph, beta: f64) -> Vec<f64> {
@@ -74,12 +79,12 @@ proptest! {
         let mut got = vec![f64::NAN; len];
         spatial.mul(&x, &mut got);
         for (g, e) in got.iter().zip(&expected) {
-            prop_assert!((g - e).abs() <= 1e-9 * (1.0 + e.abs()), "got {} expected {}", g, e);
+            prop_assert!((g - e).abs() <= TOLERANCE * (1.0 + e.abs()), "got {} expected {}", g, e);
         }
         let sums = spatial.row_sums();
         for row in 0..len {
             let e: f64 = s[row * len..(row + 1) * len].iter().sum();
-            prop_assert!((sums[row] - e).abs() <= 1e-9 * (1.0 + e));
+            prop_assert!((sums[row] - e).abs() <= TOLERANCE * (1.0 + e));
         }
     }
 }
@@ -96,11 +101,16 @@ fn two_point_graphs_have_the_expected_entries() {
     let spatial = SpatialAffinity::new(&g(1.0), &g(1.5), 0.5);
     // Only (0,0)-(1,1) and (0,1)-(1,0) are consistent pairs of pairs.
     let k = (-(0.5f64 * 0.5) / 0.5).exp();
+    let close = |got: &[f64], want: [f64; 4]| {
+        got.iter()
+            .zip(want)
+            .all(|(g, w)| (g - w).abs() <= TOLERANCE * w)
+    };
     let mut out = vec![0.0; 4];
     spatial.mul(&[1.0, 0.0, 0.0, 0.0], &mut out);
-    assert_eq!(out, vec![0.0, 0.0, 0.0, k]);
+    assert!(close(&out, [0.0, 0.0, 0.0, k]), "{out:?}");
     spatial.mul(&[0.0, 1.0, 0.0, 0.0], &mut out);
-    assert_eq!(out, vec![0.0, 0.0, k, 0.0]);
+    assert!(close(&out, [0.0, 0.0, k, 0.0]), "{out:?}");
 }
 
 /// S x for fully connected graphs written straight from Eq. 3, one entry at
@@ -161,7 +171,7 @@ fn large_fully_connected_product_equals_the_reference() {
     );
     for (k, (g, e)) in got.iter().zip(&expected).enumerate() {
         assert!(
-            (g - e).abs() <= 1e-6 * e.abs(),
+            (g - e).abs() <= TOLERANCE * e.abs(),
             "entry {k}: got {g}, expected {e}"
         );
     }
@@ -186,7 +196,7 @@ fn large_product_with_a_sparse_robot_graph_equals_the_dense_definition() {
     for row in 0..len {
         let e: f64 = (0..len).map(|col| s[row * len + col] * x[col]).sum();
         assert!(
-            (got[row] - e).abs() <= 1e-9 * (1.0 + e),
+            (got[row] - e).abs() <= TOLERANCE * (1.0 + e),
             "row {row}: {} vs {e}",
             got[row]
         );
