@@ -1,16 +1,18 @@
 //! The inner loops of the exact tier's S x product for a fully connected
 //! robot graph, and of its kernel table, written for the x86-64 baseline
-//! (SSE2) and, chosen at run time when the CPU has them, for AVX2 with FMA,
-//! so the binary still runs on any x86-64.
+//! (SSE2) and, chosen at run time when the CPU has them, for AVX2 with FMA
+//! and for AVX-512, so the binary still runs on any x86-64.
 //!
 //! One human edge `{i, j}` adds `K x_j` to row i of out and `K x_i` to row
 //! j, K the symmetric `m x m` matrix (zero diagonal) of its kernel values
 //! against the robot edges `{a, b}`. Its table row holds K's upper triangle
 //! in blocks of [`ROWS`] robot rows: rows `a0 .. a0 + ROWS` (`a0 = 0, 4,
 //! ..`) each hold the columns `b = a0 .. padded(m)`, zero where `b <= a` or
-//! `b >= m`. A few zeros (16% more values at 32 objects, 8% at 64) buy
-//! loops of whole vectors only: no remainders, no small triangle inside a
-//! block, no per-row sums.
+//! `b >= m`, stored a chunk of [`LANES`] columns at a time: the chunk's
+//! values of row `a0`, then of row `a0 + 1`, and so on (so one 512-bit
+//! load widens two rows' chunk). A few zeros (16% more values at 32
+//! objects, 8% at 64) buy loops of whole vectors only: no remainders, no
+//! small triangle inside a block, no per-row sums.
 
 use crate::fast_exp::exp_neg_single_with;
 
@@ -28,6 +30,9 @@ const ROWS: usize = 4;
 /// f64 lanes of one 256-bit vector.
 const LANES: usize = 4;
 
+/// Values of one chunk of a block: [`LANES`] columns of its [`ROWS`] rows.
+const CHUNK: usize = ROWS * LANES;
+
 /// `m` rounded up to whole vectors: the row length of x and out the
 /// product needs.
 pub(crate) fn padded(m: usize) -> usize {
@@ -41,8 +46,10 @@ pub(crate) fn block_slots(m: usize) -> Vec<Option<(usize, usize)>> {
     let p = padded(m);
     let mut slots = Vec::new();
     for a0 in (0..p).step_by(ROWS) {
-        for a in a0..a0 + ROWS {
-            slots.extend((a0..p).map(|b| (a < b && b < m).then_some((a, b))));
+        for c0 in (a0..p).step_by(LANES) {
+            for a in a0..a0 + ROWS {
+                slots.extend((c0..c0 + LANES).map(|b| (a < b && b < m).then_some((a, b))));
+            }
         }
     }
     slots
@@ -55,7 +62,8 @@ pub(crate) fn block_slot(a: usize, b: usize, m: usize) -> usize {
     let a0 = block * ROWS;
     // Block `q` holds ROWS rows of `p - ROWS q` values.
     let before = ROWS * (block * p - ROWS * block * block.saturating_sub(1) / 2);
-    before + (a - a0) * (p - a0) + (b - a0)
+    let (chunk, lane) = ((b - a0) / LANES, (b - a0) % LANES);
+    before + chunk * CHUNK + (a - a0) * LANES + lane
 }
 
 /// For one human edge `{i, j}` with table row `k` against a complete robot
@@ -69,6 +77,11 @@ pub(crate) fn edge_product(
     oi: &mut [f64],
     oj: &mut [f64],
 ) {
+    #[cfg(target_arch = "x86_64")]
+    if simd::available_512() {
+        simd::edge_product_512(m, k, xi, xj, oi, oj);
+        return;
+    }
     #[cfg(target_arch = "x86_64")]
     if simd::available() {
         simd::edge_product(m, k, xi, xj, oi, oj);
@@ -85,6 +98,11 @@ pub(crate) fn extend_kernel_row(
     robot_lengths: &[f64],
     beta: f64,
 ) {
+    #[cfg(target_arch = "x86_64")]
+    if simd::available_512() {
+        simd::extend_kernel_row_512(row, length, robot_lengths, beta);
+        return;
+    }
     #[cfg(target_arch = "x86_64")]
     if simd::available() {
         simd::extend_kernel_row(row, length, robot_lengths, beta);
@@ -144,7 +162,8 @@ fn edge_product_with(
             let mut oic: [f64; LANES] = std::array::from_fn(|l| oi[b + l]);
             let mut ojc: [f64; LANES] = std::array::from_fn(|l| oj[b + l]);
             for r in 0..ROWS {
-                let kc = &block[r * len + base..r * len + base + LANES];
+                let at = base * ROWS + r * LANES;
+                let kc = &block[at..at + LANES];
                 for l in 0..LANES {
                     let kv = f64::from(kc[l]);
                     si[r][l] += kv * xjc[l];
@@ -170,11 +189,13 @@ fn edge_product_with(
 #[cfg(target_arch = "x86_64")]
 mod simd {
     use std::arch::x86_64::{
-        __m256d, _mm256_add_pd, _mm256_cvtps_pd, _mm256_fmadd_pd, _mm256_hadd_pd,
-        _mm256_permute2f128_pd, _mm256_set1_pd, _mm256_setzero_pd,
+        __m256d, __m512d, _mm256_add_pd, _mm256_cvtps_pd, _mm256_fmadd_pd, _mm256_hadd_pd,
+        _mm256_permute2f128_pd, _mm256_set1_pd, _mm256_setzero_pd, _mm512_broadcast_f64x4,
+        _mm512_castpd512_pd256, _mm512_cvtps_pd, _mm512_extractf64x4_pd, _mm512_fmadd_pd,
+        _mm512_insertf64x4, _mm512_mul_pd, _mm512_set1_pd, _mm512_setzero_pd,
     };
 
-    use super::{Kernel, LANES, ROWS, padded};
+    use super::{CHUNK, Kernel, LANES, ROWS, padded};
 
     // `sums` turns one vector per row into one vector of rows.
     const _: () = assert!(ROWS == LANES && LANES == 4);
@@ -182,6 +203,26 @@ mod simd {
     pub(super) fn available() -> bool {
         // std caches the answer: this is an atomic load after the first.
         is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")
+    }
+
+    pub(super) fn available_512() -> bool {
+        available() && is_x86_feature_detected!("avx512f")
+    }
+
+    pub(super) fn edge_product_512(
+        m: usize,
+        k: &[Kernel],
+        xi: &[f64],
+        xj: &[f64],
+        oi: &mut [f64],
+        oj: &mut [f64],
+    ) {
+        #[allow(unsafe_code)]
+        // SAFETY: callers check `available_512()` first, so the CPU has
+        // AVX-512F, AVX2 and FMA, the requirement of this function.
+        unsafe {
+            edge_product_avx512(m, k, xi, xj, oi, oj)
+        }
     }
 
     pub(super) fn edge_product(
@@ -211,6 +252,29 @@ mod simd {
         unsafe {
             extend_kernel_row_avx2(row, length, robot_lengths, beta)
         }
+    }
+
+    pub(super) fn extend_kernel_row_512(
+        row: &mut Vec<Kernel>,
+        length: f64,
+        robot_lengths: &[f64],
+        beta: f64,
+    ) {
+        #[allow(unsafe_code)]
+        // SAFETY: as in `edge_product_512`.
+        unsafe {
+            extend_kernel_row_avx512(row, length, robot_lengths, beta)
+        }
+    }
+
+    #[target_feature(enable = "avx512f,avx2,fma")]
+    fn extend_kernel_row_avx512(
+        row: &mut Vec<Kernel>,
+        length: f64,
+        robot_lengths: &[f64],
+        beta: f64,
+    ) {
+        super::extend_kernel_row_with::<true>(row, length, robot_lengths, beta);
     }
 
     #[target_feature(enable = "avx2,fma")]
@@ -283,12 +347,7 @@ mod simd {
         let mut start = 0;
         for q in 0..p / LANES {
             let len = p - q * LANES;
-            let mut rows: [&[[Kernel; LANES]]; ROWS] = [&[]; ROWS];
-            for (r, row) in rows.iter_mut().enumerate() {
-                *row = k[start + r * len..start + (r + 1) * len]
-                    .as_chunks::<LANES>()
-                    .0;
-            }
+            let chunks = k[start..start + ROWS * len].as_chunks::<CHUNK>().0;
             start += ROWS * len;
             // Broadcasts of x_i[a] and x_j[a] for the block's rows `a`.
             let mut bi = [_mm256_setzero_pd(); ROWS];
@@ -299,17 +358,18 @@ mod simd {
             }
             let mut si = [_mm256_setzero_pd(); ROWS];
             let mut sj = [_mm256_setzero_pd(); ROWS];
-            for (c, (((xi4, xj4), oi4), oj4)) in xi[q..]
+            for ((((chunk, xi4), xj4), oi4), oj4) in chunks
                 .iter()
+                .zip(&xi[q..])
                 .zip(&xj[q..])
                 .zip(oi[q..].iter_mut())
                 .zip(oj[q..].iter_mut())
-                .enumerate()
             {
                 let (vxi, vxj) = (load(xi4), load(xj4));
                 let (mut voi, mut voj) = (load(oi4), load(oj4));
+                let rows = chunk.as_chunks::<LANES>().0;
                 for r in 0..ROWS {
-                    let kv = load_kernel(&rows[r][c]);
+                    let kv = load_kernel(&rows[r]);
                     si[r] = _mm256_fmadd_pd(kv, vxj, si[r]);
                     sj[r] = _mm256_fmadd_pd(kv, vxi, sj[r]);
                     voi = _mm256_fmadd_pd(kv, bj[r], voi);
@@ -321,6 +381,91 @@ mod simd {
             let (total_i, total_j) = (
                 _mm256_add_pd(load(&oi[q]), sums(&si)),
                 _mm256_add_pd(load(&oj[q]), sums(&sj)),
+            );
+            store(&mut oi[q], total_i);
+            store(&mut oj[q], total_j);
+        }
+    }
+
+    /// Eight f32, two rows' chunk, widened to f64.
+    #[target_feature(enable = "avx512f,avx2,fma")]
+    fn load_kernel_pair(v: &[Kernel; 2 * LANES]) -> __m512d {
+        #[allow(unsafe_code)]
+        // SAFETY: `v` is eight readable f32; loadu needs no alignment.
+        let narrow = unsafe { std::arch::x86_64::_mm256_loadu_ps(v.as_ptr()) };
+        _mm512_cvtps_pd(narrow)
+    }
+
+    /// The lower and upper four lanes added.
+    #[target_feature(enable = "avx512f,avx2,fma")]
+    fn fold(v: __m512d) -> __m256d {
+        _mm256_add_pd(_mm512_castpd512_pd256(v), _mm512_extractf64x4_pd::<1>(v))
+    }
+
+    /// [`edge_product_avx2`] with two rows' chunk per 512-bit register:
+    /// half the multiply-add instructions, which bound the AVX2 loop.
+    #[target_feature(enable = "avx512f,avx2,fma")]
+    fn edge_product_avx512(
+        m: usize,
+        k: &[Kernel],
+        xi: &[f64],
+        xj: &[f64],
+        oi: &mut [f64],
+        oj: &mut [f64],
+    ) {
+        let p = padded(m);
+        let (xi, xj) = (
+            xi[..p].as_chunks::<LANES>().0,
+            xj[..p].as_chunks::<LANES>().0,
+        );
+        let (oi, oj) = (
+            oi[..p].as_chunks_mut::<LANES>().0,
+            oj[..p].as_chunks_mut::<LANES>().0,
+        );
+        let mut start = 0;
+        for q in 0..p / LANES {
+            let len = p - q * LANES;
+            let chunks = k[start..start + ROWS * len].as_chunks::<CHUNK>().0;
+            start += ROWS * len;
+            // x_i[a] and x_j[a] of rows (a0, a0 + 1) and (a0 + 2, a0 + 3),
+            // four lanes each.
+            let pair = |x: &[f64; LANES], r: usize| {
+                _mm512_insertf64x4::<1>(_mm512_set1_pd(x[r]), _mm256_set1_pd(x[r + 1]))
+            };
+            let (bi01, bi23) = (pair(&xi[q], 0), pair(&xi[q], 2));
+            let (bj01, bj23) = (pair(&xj[q], 0), pair(&xj[q], 2));
+            let (mut si01, mut si23) = (_mm512_setzero_pd(), _mm512_setzero_pd());
+            let (mut sj01, mut sj23) = (_mm512_setzero_pd(), _mm512_setzero_pd());
+            for ((((chunk, xi4), xj4), oi4), oj4) in chunks
+                .iter()
+                .zip(&xi[q..])
+                .zip(&xj[q..])
+                .zip(oi[q..].iter_mut())
+                .zip(oj[q..].iter_mut())
+            {
+                let halves = chunk.as_chunks::<{ 2 * LANES }>().0;
+                let (k01, k23) = (load_kernel_pair(&halves[0]), load_kernel_pair(&halves[1]));
+                let vxi = _mm512_broadcast_f64x4(load(xi4));
+                let vxj = _mm512_broadcast_f64x4(load(xj4));
+                si01 = _mm512_fmadd_pd(k01, vxj, si01);
+                si23 = _mm512_fmadd_pd(k23, vxj, si23);
+                sj01 = _mm512_fmadd_pd(k01, vxi, sj01);
+                sj23 = _mm512_fmadd_pd(k23, vxi, sj23);
+                let to_i = _mm512_fmadd_pd(k23, bj23, _mm512_mul_pd(k01, bj01));
+                let to_j = _mm512_fmadd_pd(k23, bi23, _mm512_mul_pd(k01, bi01));
+                let (voi, voj) = (
+                    _mm256_add_pd(load(oi4), fold(to_i)),
+                    _mm256_add_pd(load(oj4), fold(to_j)),
+                );
+                store(oi4, voi);
+                store(oj4, voj);
+            }
+            let halves = |v: __m512d| (_mm512_castpd512_pd256(v), _mm512_extractf64x4_pd::<1>(v));
+            let ((s0, s1), (s2, s3)) = (halves(si01), halves(si23));
+            let ((t0, t1), (t2, t3)) = (halves(sj01), halves(sj23));
+            let (total_i, total_j) = (
+                _mm256_add_pd(load(&oi[q]), sums(&[s0, s1, s2, s3])),
+                _mm256_add_pd(load(&oj[q]), sums(&[t0, t1, t2, t3])),
             );
             store(&mut oi[q], total_i);
             store(&mut oj[q], total_j);
@@ -425,6 +570,12 @@ mod tests {
             simd::edge_product(m, &k, &xi, &xj, &mut oi, &mut oj);
             close(&oi, &bi, 0.0);
             close(&oj, &bj, 0.0);
+            if simd::available_512() {
+                let (mut oi, mut oj) = (vec![1.0; p], vec![2.0; p]);
+                simd::edge_product_512(m, &k, &xi, &xj, &mut oi, &mut oj);
+                close(&oi, &bi, 0.0);
+                close(&oj, &bj, 0.0);
+            }
         }
         let lengths: Vec<f64> = (0..50)
             .map(|t| t as f64 * 0.013)
@@ -433,6 +584,11 @@ mod tests {
         let (mut plain, mut dispatched) = (Vec::new(), Vec::new());
         extend_kernel_row_with::<false>(&mut plain, 0.3, &lengths, 0.01);
         simd::extend_kernel_row(&mut dispatched, 0.3, &lengths, 0.01);
+        if simd::available_512() {
+            let mut wide = Vec::new();
+            simd::extend_kernel_row_512(&mut wide, 0.3, &lengths, 0.01);
+            assert_eq!(wide, dispatched);
+        }
         // Fused multiply-adds may move the f32 rounding by an ulp.
         for (p, d) in plain.iter().zip(&dispatched) {
             assert!((p - d).abs() <= 1.2e-7 * p, "{p} vs {d}");

@@ -30,15 +30,21 @@ pub fn sinkhorn_slack(x: &mut [f64], n: usize, m: usize, tol: f64, max_rounds: u
     let col_target = |a: usize| if a < m { 1.0 } else { (n - m) as f64 };
 
     let mut col_factor = vec![0.0; cols];
+    // Row sums of the current matrix: the convergence check of one round
+    // computes them, and the next round's row pass needs exactly them (the
+    // same sums over the same values in the same order), so they are kept.
+    let mut row_sums: Vec<f64> = padded
+        .chunks_exact(cols)
+        .map(|row| row.iter().sum())
+        .collect();
     let mut outcome = Sinkhorn {
         rounds: 0,
         converged: false,
     };
     while outcome.rounds < max_rounds {
         outcome.rounds += 1;
-        for i in 0..rows {
+        for (i, &sum) in row_sums.iter().enumerate() {
             let row = &mut padded[i * cols..(i + 1) * cols];
-            let sum: f64 = row.iter().sum();
             if sum > 0.0 {
                 let factor = row_target(i) / sum;
                 row.iter_mut().for_each(|v| *v *= factor);
@@ -57,8 +63,13 @@ pub fn sinkhorn_slack(x: &mut [f64], n: usize, m: usize, tol: f64, max_rounds: u
             row.iter_mut().zip(&col_factor).for_each(|(v, f)| *v *= f);
         }
         // Columns are exact after their pass; only rows can be off.
-        let worst = (0..rows)
-            .map(|i| (padded[i * cols..(i + 1) * cols].iter().sum::<f64>() - row_target(i)).abs())
+        for (sum, row) in row_sums.iter_mut().zip(padded.chunks_exact(cols)) {
+            *sum = row.iter().sum();
+        }
+        let worst = row_sums
+            .iter()
+            .enumerate()
+            .map(|(i, sum)| (sum - row_target(i)).abs())
             .fold(0.0, f64::max);
         if worst <= tol {
             outcome.converged = true;
