@@ -138,8 +138,15 @@ impl SpatialAffinity {
         let old_width = previous.slot_lengths.len();
         let mut table = Vec::with_capacity(entries);
         let mut fresh = Vec::with_capacity(new_lengths.len());
+        // Robot objects all unchanged and in place: a kept human edge's row
+        // is its old row, copied whole.
+        let robot_same =
+            m == previous.m && robot_old.iter().enumerate().all(|(a, old)| *old == Some(a));
         for e in &next.human_edges {
             match old_edge(e, human_old, previous.n) {
+                Some(oe) if robot_same => {
+                    table.extend_from_slice(&old_table[oe * old_width..(oe + 1) * old_width]);
+                }
                 Some(oe) => {
                     let old_row = &old_table[oe * old_width..(oe + 1) * old_width];
                     fresh.clear();
@@ -383,6 +390,13 @@ mod tests {
             }
         }
         let updated = SpatialAffinity::updated(&previous, &human_old, &robot_old, &human, &robot);
+        let fresh = SpatialAffinity::from_distances(n, m, &human, &robot, 0.3);
+        assert_eq!(updated.table(), fresh.table());
+        assert_ne!(updated.table(), previous.table());
+        // Only the human object moved: kept rows are copied whole.
+        let in_place: Vec<Option<usize>> = (0..m).map(Some).collect();
+        let robot = distances(m, 0.02);
+        let updated = SpatialAffinity::updated(&previous, &human_old, &in_place, &human, &robot);
         let fresh = SpatialAffinity::from_distances(n, m, &human, &robot, 0.3);
         assert_eq!(updated.table(), fresh.table());
         assert_ne!(updated.table(), previous.table());
