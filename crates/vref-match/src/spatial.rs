@@ -91,11 +91,11 @@ impl SpatialAffinity {
 
     /// Like [`SpatialAffinity::from_distances`], with the kernel table
     /// built now: values of edge pairs whose four objects did not change
-    /// are copied from `previous` instead of recomputed. `human_old[i]` is
+    /// are taken from `previous` instead of recomputed. `human_old[i]` is
     /// the index human object `i` had in `previous` if it did not move
     /// (likewise `robot_old`); `previous` must be fully connected too.
     pub fn updated(
-        previous: &SpatialAffinity,
+        previous: SpatialAffinity,
         human_old: &[Option<usize>],
         robot_old: &[Option<usize>],
         human: &[f64],
@@ -105,6 +105,34 @@ impl SpatialAffinity {
         let next = Self::from_distances(n, m, human, robot, previous.beta);
         let width = next.slot_lengths.len();
         let entries = next.human_edges.len().saturating_mul(width);
+        // Same objects in the same places, only some human objects moved:
+        // the old table is kept and only the rows of human edges that touch
+        // a moved object are recomputed (copying megabytes into fresh
+        // memory cost more than the kernel values it saved).
+        let in_place = n == previous.n
+            && m == previous.m
+            && previous.robot_complete
+            && entries <= next.table_limit
+            && robot_old.iter().enumerate().all(|(a, old)| *old == Some(a))
+            && human_old
+                .iter()
+                .enumerate()
+                .all(|(i, old)| old.is_none_or(|k| k == i));
+        if in_place {
+            if let Some(mut table) = previous.table.into_inner() {
+                let mut fresh = Vec::with_capacity(width);
+                for (edge, row) in next.human_edges.iter().zip(table.chunks_exact_mut(width)) {
+                    if human_old[edge.i].is_none() || human_old[edge.j].is_none() {
+                        fresh.clear();
+                        extend_kernel_row(&mut fresh, edge.length, &next.slot_lengths, next.beta);
+                        row.copy_from_slice(&fresh);
+                    }
+                }
+                // A fresh cell cannot be full: `set` only fails on a full cell.
+                let _ = next.table.set(table);
+            }
+            return next;
+        }
         let Some(old_table) = previous
             .table()
             .filter(|_| entries <= next.table_limit && previous.robot_complete)
@@ -389,17 +417,32 @@ mod tests {
                 robot[k * m + 4] += 0.07;
             }
         }
-        let updated = SpatialAffinity::updated(&previous, &human_old, &robot_old, &human, &robot);
+        let updated =
+            SpatialAffinity::updated(previous.clone(), &human_old, &robot_old, &human, &robot);
         let fresh = SpatialAffinity::from_distances(n, m, &human, &robot, 0.3);
         assert_eq!(updated.table(), fresh.table());
         assert_ne!(updated.table(), previous.table());
-        // Only the human object moved: kept rows are copied whole.
+        // Only the human object moved: the old table is updated in place.
         let in_place: Vec<Option<usize>> = (0..m).map(Some).collect();
         let robot = distances(m, 0.02);
-        let updated = SpatialAffinity::updated(&previous, &human_old, &in_place, &human, &robot);
+        let updated =
+            SpatialAffinity::updated(previous.clone(), &human_old, &in_place, &human, &robot);
         let fresh = SpatialAffinity::from_distances(n, m, &human, &robot, 0.3);
         assert_eq!(updated.table(), fresh.table());
         assert_ne!(updated.table(), previous.table());
+        // Human object 2 left: the others' rows are copied whole.
+        let kept: Vec<usize> = (0..n).filter(|&i| i != 2).collect();
+        let human_old: Vec<Option<usize>> = kept.iter().map(|&i| Some(i)).collect();
+        let old_human = distances(n, 0.01);
+        let human: Vec<f64> = kept
+            .iter()
+            .flat_map(|&i| kept.iter().map(move |&j| (i, j)))
+            .map(|(i, j)| old_human[i * n + j])
+            .collect();
+        let updated =
+            SpatialAffinity::updated(previous.clone(), &human_old, &in_place, &human, &robot);
+        let fresh = SpatialAffinity::from_distances(n - 1, m, &human, &robot, 0.3);
+        assert_eq!(updated.table(), fresh.table());
     }
 
     #[test]

@@ -235,9 +235,10 @@ impl Engine {
     }
 
     /// The exact tier's S, reusing the kernel values of unchanged objects.
-    fn exact_spatial(&self) -> SpatialAffinity {
+    fn exact_spatial(&mut self) -> SpatialAffinity {
+        let previous = self.spatial.take();
         let (h, r) = (&self.human, &self.robot);
-        match &self.spatial {
+        match previous {
             Some(SpatialTerm::Edges(previous))
                 if !matches!(self.method, Method::Appearance | Method::Rigid) =>
             {
