@@ -78,13 +78,7 @@ pub(crate) fn edge_product(
     oj: &mut [f64],
 ) {
     #[cfg(target_arch = "x86_64")]
-    if simd::available_512() {
-        simd::edge_product_512(m, k, xi, xj, oi, oj);
-        return;
-    }
-    #[cfg(target_arch = "x86_64")]
-    if simd::available() {
-        simd::edge_product(m, k, xi, xj, oi, oj);
+    if simd::edge_product_512(m, k, xi, xj, oi, oj) || simd::edge_product(m, k, xi, xj, oi, oj) {
         return;
     }
     edge_product_with(m, k, xi, xj, oi, oj);
@@ -99,13 +93,9 @@ pub(crate) fn extend_kernel_row(
     beta: f64,
 ) {
     #[cfg(target_arch = "x86_64")]
-    if simd::available_512() {
-        simd::extend_kernel_row_512(row, length, robot_lengths, beta);
-        return;
-    }
-    #[cfg(target_arch = "x86_64")]
-    if simd::available() {
-        simd::extend_kernel_row(row, length, robot_lengths, beta);
+    if simd::extend_kernel_row_512(row, length, robot_lengths, beta)
+        || simd::extend_kernel_row(row, length, robot_lengths, beta)
+    {
         return;
     }
     extend_kernel_row_with::<false>(row, length, robot_lengths, beta);
@@ -209,6 +199,7 @@ mod simd {
         available() && is_x86_feature_detected!("avx512f")
     }
 
+    /// False, and nothing done, when the CPU lacks AVX-512F.
     pub(super) fn edge_product_512(
         m: usize,
         k: &[Kernel],
@@ -216,15 +207,20 @@ mod simd {
         xj: &[f64],
         oi: &mut [f64],
         oj: &mut [f64],
-    ) {
+    ) -> bool {
+        if !available_512() {
+            return false;
+        }
         #[allow(unsafe_code)]
-        // SAFETY: callers check `available_512()` first, so the CPU has
-        // AVX-512F, AVX2 and FMA, the requirement of this function.
+        // SAFETY: the CPU has AVX-512F, AVX2 and FMA (checked just above),
+        // the only requirement of a `target_feature` function.
         unsafe {
             edge_product_avx512(m, k, xi, xj, oi, oj)
         }
+        true
     }
 
+    /// False, and nothing done, when the CPU lacks AVX2 and FMA.
     pub(super) fn edge_product(
         m: usize,
         k: &[Kernel],
@@ -232,39 +228,53 @@ mod simd {
         xj: &[f64],
         oi: &mut [f64],
         oj: &mut [f64],
-    ) {
+    ) -> bool {
+        if !available() {
+            return false;
+        }
         #[allow(unsafe_code)]
-        // SAFETY: callers check `available()` first, so the CPU has AVX2
-        // and FMA, the only requirement of a `target_feature` function.
+        // SAFETY: the CPU has AVX2 and FMA (checked just above), the only
+        // requirement of a `target_feature` function.
         unsafe {
             edge_product_avx2(m, k, xi, xj, oi, oj)
         }
+        true
     }
 
+    /// False, and nothing done, when the CPU lacks AVX2 and FMA.
     pub(super) fn extend_kernel_row(
         row: &mut Vec<Kernel>,
         length: f64,
         robot_lengths: &[f64],
         beta: f64,
-    ) {
+    ) -> bool {
+        if !available() {
+            return false;
+        }
         #[allow(unsafe_code)]
         // SAFETY: as in `edge_product`.
         unsafe {
             extend_kernel_row_avx2(row, length, robot_lengths, beta)
         }
+        true
     }
 
+    /// False, and nothing done, when the CPU lacks AVX-512F.
     pub(super) fn extend_kernel_row_512(
         row: &mut Vec<Kernel>,
         length: f64,
         robot_lengths: &[f64],
         beta: f64,
-    ) {
+    ) -> bool {
+        if !available_512() {
+            return false;
+        }
         #[allow(unsafe_code)]
         // SAFETY: as in `edge_product_512`.
         unsafe {
             extend_kernel_row_avx512(row, length, robot_lengths, beta)
         }
+        true
     }
 
     #[target_feature(enable = "avx512f,avx2,fma")]
@@ -567,12 +577,12 @@ mod tests {
             let (mut bi, mut bj) = (vec![1.0; p], vec![2.0; p]);
             edge_product_with(m, &k, &xi, &xj, &mut bi, &mut bj);
             let (mut oi, mut oj) = (vec![1.0; p], vec![2.0; p]);
-            simd::edge_product(m, &k, &xi, &xj, &mut oi, &mut oj);
+            assert!(simd::edge_product(m, &k, &xi, &xj, &mut oi, &mut oj));
             close(&oi, &bi, 0.0);
             close(&oj, &bj, 0.0);
             if simd::available_512() {
                 let (mut oi, mut oj) = (vec![1.0; p], vec![2.0; p]);
-                simd::edge_product_512(m, &k, &xi, &xj, &mut oi, &mut oj);
+                assert!(simd::edge_product_512(m, &k, &xi, &xj, &mut oi, &mut oj));
                 close(&oi, &bi, 0.0);
                 close(&oj, &bj, 0.0);
             }
@@ -583,10 +593,15 @@ mod tests {
             .collect();
         let (mut plain, mut dispatched) = (Vec::new(), Vec::new());
         extend_kernel_row_with::<false>(&mut plain, 0.3, &lengths, 0.01);
-        simd::extend_kernel_row(&mut dispatched, 0.3, &lengths, 0.01);
+        assert!(simd::extend_kernel_row(
+            &mut dispatched,
+            0.3,
+            &lengths,
+            0.01
+        ));
         if simd::available_512() {
             let mut wide = Vec::new();
-            simd::extend_kernel_row_512(&mut wide, 0.3, &lengths, 0.01);
+            assert!(simd::extend_kernel_row_512(&mut wide, 0.3, &lengths, 0.01));
             assert_eq!(wide, dispatched);
         }
         // Fused multiply-adds may move the f32 rounding by an ulp.
