@@ -1,0 +1,147 @@
+//! Accuracy of the methods on the synthetic feeds' live world (the world
+//! `vref demo`, `vref soak` and `vref bench query` run), scored against its
+//! truth: 40 moments 1.7 s apart, both views measured at the same moment.
+//! With `--objects` above the preset's own counts the world is scaled up as
+//! the feeds scale it (`vref_feed::with_room_for`): the cameras stand
+//! farther away, so their position error grows while the objects' spacing
+//! does not; the residual columns show how far the views' positions are
+//! from one rigid motion.
+//!
+//! `cargo run --release -p vref --example live_accuracy -- --objects 0,32,64 --method rigid --method paper`
+//! (0: the preset's own counts; the configuration is `vref`'s default
+//! lookup, so `VREF_CONFIG` applies).
+
+use anyhow::Context;
+use clap::Parser;
+use vref_match::{Method, Params, Problem, RigidMotion, score_scene, solve};
+use vref_scene::{Limits, SceneGraph, Side};
+use vref_sim::LiveWorld;
+
+#[derive(Debug, Parser)]
+struct Args {
+    /// Objects in the world, comma-separated; 0 for the preset's own counts.
+    #[arg(long, value_delimiter = ',', default_value = "0,32,64")]
+    objects: Vec<usize>,
+    /// Methods to score; repeat for several.
+    #[arg(long, default_values = ["rigid", "paper"])]
+    method: Vec<Method>,
+}
+
+const MOMENTS: u64 = 40;
+
+fn main() -> anyhow::Result<()> {
+    let args = Args::parse();
+    let (config, _) = vref_config::Config::load(None).context("loading the configuration")?;
+    let params: Params = config.matching;
+    let limits = Limits::default();
+    println!(
+        "objects  method  accuracy  precision  unmatched  with partner  residual p50/p90  0.4 x spacing"
+    );
+    for &n in &args.objects {
+        let (_, world) = vref_feed::synthetic_world(&config.feeds, (n > 0).then_some(n))
+            .with_context(|| format!("the live world with {n} objects"))?;
+        let residuals = residuals(&world, &limits)?;
+        for &method in &args.method {
+            let (mut accuracy, mut precision, mut unmatched, mut humans, mut partners) =
+                (0.0, 0.0, 0, 0, 0);
+            for k in 0..MOMENTS {
+                let t = 1_000.0 + k as f64 * 1.7;
+                let (human, robot) = views(&world, t, k, &limits)?;
+                let problem = Problem::new(&human, &robot, params.beta)?;
+                let solution = solve(method, &problem, &params)?;
+                let ids: Vec<u64> = human.objects().iter().map(|o| o.id).collect();
+                let predicted: Vec<(u64, u64)> = solution
+                    .assignment
+                    .iter()
+                    .zip(&ids)
+                    .filter_map(|(a, &h)| a.map(|j| (h, robot.objects()[j].id)))
+                    .collect();
+                let truth = world.truth(t);
+                let score = score_scene(&ids, &predicted, &truth);
+                accuracy += score.accuracy;
+                precision += score.precision;
+                unmatched += solution.assignment.iter().filter(|a| a.is_none()).count();
+                humans += ids.len();
+                partners += truth.len();
+            }
+            let moments = MOMENTS as f64;
+            println!(
+                "{n:7}  {:6}  {:8.3}  {:9.3}  {:9.2}  {:12.2}  {:7.3} / {:.3} m  {:.3} m",
+                method.to_string(),
+                accuracy / moments,
+                precision / moments,
+                unmatched as f64 / humans as f64,
+                partners as f64 / humans as f64,
+                residuals.0,
+                residuals.1,
+                residuals.2,
+            );
+        }
+    }
+    Ok(())
+}
+
+fn views(
+    world: &LiveWorld,
+    t: f64,
+    frame: u64,
+    limits: &Limits,
+) -> anyhow::Result<(SceneGraph, SceneGraph)> {
+    let human = world.observe(Side::Human, t, frame).graph(limits)?;
+    let robot = world.observe(Side::Robot, t, frame).graph(limits)?;
+    Ok((human, robot))
+}
+
+/// Over the moments: median and 90th percentile of the distance between
+/// each true pair under the rigid motion fitted to all true pairs, and the
+/// median of `rigid`'s sigma (0.4 x the robot view's median
+/// nearest-neighbour distance).
+fn residuals(world: &LiveWorld, limits: &Limits) -> anyhow::Result<(f64, f64, f64)> {
+    let (mut all, mut sigmas) = (Vec::new(), Vec::new());
+    for k in 0..MOMENTS {
+        let t = 1_000.0 + k as f64 * 1.7;
+        let (human, robot) = views(world, t, k, limits)?;
+        let position =
+            |g: &SceneGraph, id: u64| g.objects().iter().find(|o| o.id == id).map(|o| o.position);
+        let (from, to): (Vec<_>, Vec<_>) = world
+            .truth(t)
+            .into_iter()
+            .filter_map(|(h, r)| Some((position(&human, h)?, position(&robot, r)?)))
+            .unzip();
+        if let Some(motion) = RigidMotion::fit(&from, &to, &vec![1.0; from.len()]) {
+            all.extend(
+                from.iter()
+                    .zip(&to)
+                    .map(|(f, t)| (motion.apply(f) - t).norm()),
+            );
+        }
+        let points: Vec<_> = robot.objects().iter().map(|o| o.position).collect();
+        let mut nearest: Vec<f64> = points
+            .iter()
+            .enumerate()
+            .map(|(a, p)| {
+                points
+                    .iter()
+                    .enumerate()
+                    .filter(|&(b, _)| b != a)
+                    .map(|(_, q)| (p - q).norm())
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect();
+        nearest.sort_by(f64::total_cmp);
+        if let Some(&median) = nearest.get(nearest.len() / 2) {
+            sigmas.push(0.4 * median);
+        }
+    }
+    Ok((
+        quantile(&mut all, 0.5),
+        quantile(&mut all, 0.9),
+        quantile(&mut sigmas, 0.5),
+    ))
+}
+
+fn quantile(values: &mut [f64], q: f64) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let k = ((values.len() as f64 - 1.0) * q).round() as usize;
+    values.get(k).copied().unwrap_or(f64::NAN)
+}
