@@ -318,3 +318,51 @@ fn each_service_killed_during_a_soak_and_restarted_leaves_the_matcher_answering(
         assert_eq!(code, Some(0), "{name}:\n{}", h.log(name));
     }
 }
+
+/// The commands that start the services say which one stopped at start and
+/// why (the last line of its log), instead of waiting for answers that
+/// cannot come, and keep its log.
+#[test]
+fn a_service_that_stops_at_start_is_named_with_its_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let vref = dir.path().join("vref");
+    std::fs::copy(env!("CARGO_BIN_EXE_vref"), &vref).unwrap();
+    for feed in ["vref-perception-feed", "vref-gesture-feed"] {
+        std::fs::copy(support::processes::binary(feed), dir.path().join(feed)).unwrap();
+    }
+    // A matcher that refuses its configuration, as a matcher of another
+    // version would.
+    let matcher = dir.path().join("vref-matcher");
+    std::fs::write(
+        &matcher,
+        "#!/bin/sh\necho 'ERROR configuration: unknown key matching.rigid.novelty' >&2\nexit 2\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(
+        &matcher,
+        std::os::unix::fs::PermissionsExt::from_mode(0o755),
+    )
+    .unwrap();
+    for command in [
+        &["demo", "--duration", "2s"][..],
+        &["soak", "--duration", "2s"],
+    ] {
+        let run = support::vref_at(&vref, command, Duration::from_secs(60));
+        assert_eq!(run.code, Some(1), "{command:?}: {}", run.stderr);
+        assert!(
+            run.stderr
+                .contains("vref-matcher exited with exit status: 2: ERROR configuration: unknown key matching.rigid.novelty"),
+            "{command:?}: {}",
+            run.stderr
+        );
+        let kept = run
+            .stderr
+            .split("logs in ")
+            .nth(1)
+            .and_then(|rest| rest.split(')').next())
+            .unwrap_or_else(|| panic!("{command:?} names no log directory: {}", run.stderr));
+        let log = std::path::Path::new(kept).join("vref-matcher.log");
+        assert!(log.exists(), "{command:?}: {} was not kept", log.display());
+        std::fs::remove_dir_all(kept).ok();
+    }
+}

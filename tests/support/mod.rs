@@ -50,8 +50,14 @@ pub fn cmu_house_dir() -> PathBuf {
 /// Runs `vref` with `args` and the repository's config, killing it after
 /// `limit` so that a hang fails the test instead of stalling the suite.
 pub fn vref(args: &[&str], limit: Duration) -> Run {
+    vref_at(Path::new(env!("CARGO_BIN_EXE_vref")), args, limit)
+}
+
+/// Like [`vref`], with the `vref` binary at `program` (a copy beside
+/// other service binaries, say).
+pub fn vref_at(program: &Path, args: &[&str], limit: Duration) -> Run {
     let config = repo_root().join("config/vref.toml");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vref"))
+    let mut child = Command::new(program)
         .args(args)
         .env("VREF_CONFIG", &config)
         .env_remove("RUST_LOG")

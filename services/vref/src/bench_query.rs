@@ -28,7 +28,7 @@ use vref_wire::{AnswerStatus, ReferenceAnswer, ReferenceQuery};
 
 use crate::cli::{BenchQueryArgs, EchoServerArgs};
 use crate::failure::{Blame, Failure};
-use crate::launch::{Isolation, Services, prepare};
+use crate::launch::{Isolation, Services, keep_logs_if, prepare};
 use crate::stdout;
 use crate::table::Table;
 
@@ -73,8 +73,13 @@ pub fn query(args: &BenchQueryArgs) -> Result<(), Failure> {
     let mut system =
         Services::start_system(&binaries, &config_path, Some(args.objects), dir.path())
             .runtime()?;
-    let outcome = measure(args, &own, &world);
+    let mut running = || {
+        system.ensure_running()?;
+        echo.ensure_running()
+    };
+    let outcome = measure(args, &own, &world, &mut running);
     let stopped = system.stop().and(echo.stop());
+    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
     let report = outcome.runtime()?;
     let text = if args.json {
         format!("{}\n", report.json(args, &config))
@@ -142,14 +147,19 @@ const ORDERS: [[Probe; 3]; 3] = [
     [Probe::Bare, Probe::Matcher, Probe::Matcher],
 ];
 
-fn measure(args: &BenchQueryArgs, config: &Config, world: &LiveWorld) -> anyhow::Result<Report> {
+fn measure(
+    args: &BenchQueryArgs,
+    config: &Config,
+    world: &LiveWorld,
+    running: &mut dyn FnMut() -> anyhow::Result<()>,
+) -> anyhow::Result<Report> {
     let pid = std::process::id();
     let mut matcher = ReferenceClient::connect(&config.ipc, &format!("vref-bench-query-{pid}"))?;
     let mut bare = ReferenceClient::connect(
         &echo_settings(&config.ipc),
         &format!("vref-bench-bare-{pid}"),
     )?;
-    wait_ready(&mut matcher, &mut bare, world)?;
+    wait_ready(&mut matcher, &mut bare, world, running)?;
 
     let mut report = Report::default();
     let period = Duration::from_secs_f64(1.0 / args.rate);
@@ -235,11 +245,13 @@ fn wait_ready(
     matcher: &mut ReferenceClient,
     bare: &mut ReferenceClient,
     world: &LiveWorld,
+    running: &mut dyn FnMut() -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
     let deadline = Instant::now() + READY_WITHIN;
     let mut matcher_ready = false;
     let mut bare_ready = false;
     while Instant::now() < deadline {
+        running()?;
         if !matcher_ready && let Some(&id) = human_ids(world).first() {
             matcher_ready = matcher
                 .by_human_object(id, QUERY_TIMEOUT)

@@ -13,7 +13,7 @@ use vref_wire::{AnswerStatus, ReferenceAnswer};
 
 use crate::cli::DemoArgs;
 use crate::failure::{Blame, Failure};
-use crate::launch::{Isolation, Services, prepare};
+use crate::launch::{Isolation, Services, keep_logs_if, prepare};
 use crate::stdout;
 
 /// How long the services may take to give a first answer.
@@ -37,8 +37,9 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
 
     let mut services =
         Services::start_system(&binaries, &config_path, args.objects, dir.path()).runtime()?;
-    let outcome = query_loop(args, &demo_config, &world);
+    let outcome = query_loop(args, &demo_config, &world, &mut services);
     let stopped = services.stop();
+    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
     let summary = outcome.runtime()?;
     if args.json {
         stdout::print(&format!("{}\n", summary.json()))?;
@@ -151,10 +152,15 @@ pub(crate) fn now_s() -> f64 {
 
 /// Waits for the services, then points at the gesture target of the
 /// moment at the query rate until the duration is over.
-fn query_loop(args: &DemoArgs, config: &Config, world: &LiveWorld) -> anyhow::Result<Summary> {
+fn query_loop(
+    args: &DemoArgs,
+    config: &Config,
+    world: &LiveWorld,
+    services: &mut Services,
+) -> anyhow::Result<Summary> {
     let mut client =
         ReferenceClient::connect(&config.ipc, &format!("vref-demo-{}", std::process::id()))?;
-    wait_ready(&mut client, world)?;
+    wait_ready(&mut client, world, services)?;
     let period = Duration::from_secs_f64(1.0 / args.query_rate);
     let end = Instant::now() + args.duration;
     let mut summary = Summary::default();
@@ -238,9 +244,14 @@ fn line(
     )
 }
 
-fn wait_ready(client: &mut ReferenceClient, world: &LiveWorld) -> anyhow::Result<()> {
+fn wait_ready(
+    client: &mut ReferenceClient,
+    world: &LiveWorld,
+    services: &mut Services,
+) -> anyhow::Result<()> {
     let deadline = Instant::now() + READY_WITHIN;
     while Instant::now() < deadline {
+        services.ensure_running()?;
         if let Some(g) = world.gesture(now_s())
             && let Ok(answer) = ask(client, &g, QUERY_TIMEOUT)
             && !matches!(

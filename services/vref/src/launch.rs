@@ -40,6 +40,15 @@ pub struct Isolation {
     pub config_path: PathBuf,
 }
 
+/// Keeps the run's directory (the services' logs) when the run failed,
+/// so that the paths its error names still exist; removes it otherwise.
+pub fn keep_logs_if(failed: bool, dir: tempfile::TempDir) {
+    if failed {
+        let path = dir.keep();
+        tracing::warn!("the services' logs are kept in {}", path.display());
+    }
+}
+
 /// Finds the service binaries and isolates `config` in a new directory
 /// `vref-<name>-*` with iceoryx2 prefix `<tag><pid>_`: the services
 /// started never meet, or disturb, services already running here.
@@ -133,15 +142,35 @@ impl Services {
         Ok(())
     }
 
-    /// Services that have exited on their own, with how.
-    pub fn exited(&mut self) -> Vec<String> {
-        self.children
-            .iter_mut()
-            .filter_map(|(name, child)| match child.try_wait() {
-                Ok(Some(status)) => Some(format!("{name} exited with {status}")),
-                _ => None,
+    /// An error naming each service that has exited on its own, how, and
+    /// the last line of its log (where a service says why it stopped, e.g.
+    /// a configuration it refused); `Ok` while all of them run.
+    pub fn ensure_running(&mut self) -> anyhow::Result<()> {
+        let mut exited = Vec::new();
+        for (name, child) in &mut self.children {
+            if let Ok(Some(status)) = child.try_wait() {
+                exited.push((name.clone(), status));
+            }
+        }
+        if exited.is_empty() {
+            return Ok(());
+        }
+        let reports: Vec<String> = exited
+            .iter()
+            .map(|(name, status)| {
+                let log = self.log(name);
+                let last = log.lines().rev().find(|l| !l.trim().is_empty());
+                match last {
+                    Some(line) => format!("{name} exited with {status}: {}", line.trim()),
+                    None => format!("{name} exited with {status}"),
+                }
             })
-            .collect()
+            .collect();
+        Err(anyhow!(
+            "{} (logs in {})",
+            reports.join("; "),
+            self.logs.display()
+        ))
     }
 
     /// What service `name` logged so far.

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, anyhow, bail};
+use anyhow::{Context, bail};
 use vref_config::Config;
 use vref_feed::synthetic_world;
 use vref_reference::RejectReason;
@@ -18,7 +18,7 @@ use vref_wire::{AnswerStatus, MatcherStats};
 use crate::cli::SoakArgs;
 use crate::demo::{ask, now_s};
 use crate::failure::{Blame, Failure};
-use crate::launch::{Isolation, SERVICES, Services, prepare};
+use crate::launch::{Isolation, SERVICES, Services, keep_logs_if, prepare};
 use crate::stdout;
 
 /// How long the services may take to answer and solve a first time.
@@ -59,17 +59,9 @@ pub fn run(args: &SoakArgs) -> Result<(), Failure> {
         published_snapshots(&services.log("vref-perception-feed")),
         published_snapshots(&services.log("vref-gesture-feed")),
     ];
-    let report = match outcome {
-        Ok(mut report) => {
-            report.published = published;
-            report
-        }
-        Err(e) => {
-            // The logs say why; keep them.
-            let logs = dir.keep();
-            return Err(e.context(format!("service logs kept in {}", logs.display()))).runtime();
-        }
-    };
+    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
+    let mut report = outcome.runtime()?;
+    report.published = published;
     if args.json {
         stdout::print(&format!("{}\n", report.json()))?;
     } else {
@@ -217,12 +209,9 @@ fn stats_after(
 }
 
 fn check_alive(services: &mut Services) -> anyhow::Result<()> {
-    let exited = services.exited();
-    if exited.is_empty() {
-        Ok(())
-    } else {
-        Err(anyhow!("{}", exited.join("; "))).context("a service died during the soak")
-    }
+    services
+        .ensure_running()
+        .context("a service died during the soak")
 }
 
 /// The `snapshots=N` of a feed's last "stopped" log line.
