@@ -45,7 +45,7 @@ pub use methods::{Method, RigidParams, SolveOptions, solve, solve_with};
 pub use metrics::{SceneScore, Stat, Summary, score_scene};
 pub use pair_kernel::PairAffinity;
 pub use params::{LiveParams, PaperParams, Params, RrwmParams, SmParams};
-pub use problem::Problem;
+pub use problem::{Problem, position_variance};
 pub use rigid::RigidMotion;
 pub use sinkhorn::{Sinkhorn, sinkhorn_slack};
 pub use solution::Solution;

@@ -18,6 +18,27 @@ pub struct Problem {
     pub human_positions: Vec<Point3<f64>>,
     /// Positions of the robot objects (columns), in the robot camera frame.
     pub robot_positions: Vec<Point3<f64>>,
+    /// Per human object, the variance of its position error per axis as
+    /// its sensor states it ([`position_variance`]); empty or zero when not
+    /// stated.
+    pub human_variances: Vec<f64>,
+    /// Likewise per robot object.
+    pub robot_variances: Vec<f64>,
+}
+
+/// The mean over the three axes of the squared stated position errors:
+/// the variance per axis of an isotropic error with the same total, which
+/// a rotation between the two camera frames leaves unchanged.
+pub fn position_variance(sigma: &[f64; 3]) -> f64 {
+    sigma.iter().map(|s| s * s).sum::<f64>() / 3.0
+}
+
+fn variances(graph: &SceneGraph) -> Vec<f64> {
+    graph
+        .objects()
+        .iter()
+        .map(|o| position_variance(&o.position_sigma))
+        .collect()
 }
 
 impl Problem {
@@ -34,6 +55,8 @@ impl Problem {
             spatial: SpatialTerm::Edges(SpatialAffinity::new(human, robot, beta)),
             human_positions: human.objects().iter().map(|o| o.position).collect(),
             robot_positions: robot.objects().iter().map(|o| o.position).collect(),
+            human_variances: variances(human),
+            robot_variances: variances(robot),
         })
     }
 
@@ -61,6 +84,8 @@ impl Problem {
         let mut problem = Self::pruned(n, m, appearance, spatial);
         problem.human_positions = human.objects().iter().map(|o| o.position).collect();
         problem.robot_positions = robot.objects().iter().map(|o| o.position).collect();
+        problem.human_variances = variances(human);
+        problem.robot_variances = variances(robot);
         Ok(problem)
     }
 
@@ -82,6 +107,8 @@ impl Problem {
             spatial: SpatialTerm::Pairs(spatial),
             human_positions: Vec::new(),
             robot_positions: Vec::new(),
+            human_variances: Vec::new(),
+            robot_variances: Vec::new(),
         }
     }
 

@@ -521,3 +521,59 @@ fn captured_noiseless_scenes_are_matched_perfectly() {
         assert_eq!(score.accuracy, 1.0, "scene {k}: {pairs:?}");
     }
 }
+
+/// A robot object measured far off its place is left without a partner
+/// when nothing says its position is that uncertain, and matched when its
+/// sensor states the error (the feeds publish it with every object).
+#[test]
+fn a_stated_position_error_widens_that_pair_only() {
+    let (rotation, translation) = known_motion();
+    let human = cloud();
+    let mut robot: Vec<_> = human.iter().map(|p| rotation * p + translation).collect();
+    // rigid's sigma: 0.4 x the robot view's median nearest-neighbour distance.
+    let mut nearest: Vec<f64> = robot
+        .iter()
+        .map(|p| {
+            robot
+                .iter()
+                .filter(|q| *q != p)
+                .map(|q| (p - q).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    nearest.sort_by(f64::total_cmp);
+    let sigma = 0.4 * nearest[nearest.len() / 2];
+    // Object 0 is measured 4 sigma off: 8 nats, above the 4.5 of "no partner".
+    robot[0] += Vector3::new(4.0 * sigma, 0.0, 0.0);
+    // Every object looks different, so only its position is in doubt.
+    let unique: Vec<Vec<f32>> = (0..10)
+        .map(|k| (0..10).map(|d| if d == k { 1.0 } else { 0.05 }).collect())
+        .collect();
+    let human_graph = graph(&human, 1..=10, &unique);
+    let robot_objects = |stated: f64| {
+        let objects = robot
+            .iter()
+            .zip(&unique)
+            .enumerate()
+            .map(|(k, (p, f))| {
+                let o = SceneObject::new(101 + k as u64, [p.x, p.y, p.z], f.clone());
+                if k == 0 { o.with_sigma([stated; 3]) } else { o }
+            })
+            .collect();
+        SceneGraph::new(objects, None, &Limits::default()).unwrap()
+    };
+    let params = Params::default();
+    let solve_with_stated = |stated: f64, use_stated: bool| {
+        let mut params = params;
+        params.rigid.stated_errors = use_stated;
+        let problem = Problem::new(&human_graph, &robot_objects(stated), params.beta).unwrap();
+        solve(Method::Rigid, &problem, &params).unwrap().assignment
+    };
+    let unstated = solve_with_stated(0.0, true);
+    assert_eq!(unstated[0], None, "4 sigma off, nothing stated");
+    assert!((1..10).all(|i| unstated[i] == Some(i)), "{unstated:?}");
+    let stated = solve_with_stated(4.0 * sigma, true);
+    assert!((0..10).all(|i| stated[i] == Some(i)), "{stated:?}");
+    let ignored = solve_with_stated(4.0 * sigma, false);
+    assert_eq!(ignored, unstated, "stated errors switched off");
+}

@@ -80,6 +80,8 @@ impl RejectReason {
                 GraphError::DuplicateId { .. } => RejectReason::DuplicateId,
                 GraphError::NonFinitePosition { .. } => RejectReason::NonFinitePosition,
                 GraphError::AbsurdPosition { .. } => RejectReason::AbsurdPosition,
+                // The wire checks uncertainties first (BadUncertainty).
+                GraphError::BadPositionSigma { .. } => RejectReason::Uncertainty,
                 GraphError::NonFiniteFeature { .. } => RejectReason::NonFiniteFeature,
                 GraphError::FeatureDimMismatch { .. } => RejectReason::FeatureDimMismatch,
                 // Snapshots carry no edges.

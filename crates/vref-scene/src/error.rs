@@ -36,6 +36,8 @@ pub enum GraphError {
         value: f64,
         limit: f64,
     },
+    #[error("object id {id}: position_sigma[{axis}] is {value}, not a finite non-negative number")]
+    BadPositionSigma { id: u64, axis: usize, value: f64 },
     #[error("object id {id}: feature[{index}] is {value}, not a finite number")]
     NonFiniteFeature { id: u64, index: usize, value: f32 },
     #[error(

@@ -15,6 +15,10 @@ pub struct SceneObject {
     pub position: Point3<f64>,
     /// Appearance feature; empty means "no appearance information".
     pub feature: Vec<f32>,
+    /// Standard deviation of the position error along each axis of the
+    /// camera frame, as the sensor states it; all zero when not stated
+    /// (dataset files do not carry it).
+    pub position_sigma: [f64; 3],
 }
 
 impl SceneObject {
@@ -23,6 +27,15 @@ impl SceneObject {
             id,
             position: Point3::from(position),
             feature,
+            position_sigma: [0.0; 3],
+        }
+    }
+
+    /// The object with the sensor's stated position error.
+    pub fn with_sigma(self, position_sigma: [f64; 3]) -> Self {
+        Self {
+            position_sigma,
+            ..self
         }
     }
 }
@@ -127,6 +140,11 @@ fn check_object(
                 value,
                 limit: limits.max_abs_coordinate,
             });
+        }
+    }
+    for (axis, &value) in object.position_sigma.iter().enumerate() {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(GraphError::BadPositionSigma { id, axis, value });
         }
     }
     if object.feature.len() != feature_dim {

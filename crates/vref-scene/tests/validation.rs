@@ -211,6 +211,32 @@ fn absurd_position() {
 }
 
 #[test]
+fn a_stated_position_error_must_be_finite_and_non_negative() {
+    for value in [-0.1, f64::NAN, f64::INFINITY] {
+        let mut objects = three_objects();
+        objects[1].position_sigma[2] = value;
+        match graph_err(objects, None) {
+            GraphError::BadPositionSigma {
+                id: 2,
+                axis: 2,
+                value: v,
+            } => {
+                assert!(v.is_nan() && value.is_nan() || v == value, "{v}")
+            }
+            other => panic!("{value}: {other:?}"),
+        }
+    }
+    let objects: Vec<_> = three_objects()
+        .into_iter()
+        .map(|o| o.with_sigma([0.0, 0.02, 0.5]))
+        .collect();
+    assert_eq!(
+        valid_graph(objects).objects()[0].position_sigma,
+        [0.0, 0.02, 0.5]
+    );
+}
+
+#[test]
 fn position_at_the_limit_is_accepted() {
     let limit = Limits::default().max_abs_coordinate;
     let graph = valid_graph(vec![obj(1, [limit, -limit, 0.0], &[])]);

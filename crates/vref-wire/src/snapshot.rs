@@ -103,11 +103,10 @@ fn object_of(entry: &ObjectEntry, dim: usize) -> Result<SceneObject, WireError> 
     }
     let [x, y, z] = entry.position.map(f64::from);
     // Position and feature are checked by SceneGraph::new.
-    Ok(SceneObject::new(
-        entry.track_id,
-        [x, y, z],
-        entry.feature[..dim].to_vec(),
-    ))
+    Ok(
+        SceneObject::new(entry.track_id, [x, y, z], entry.feature[..dim].to_vec())
+            .with_sigma(entry.position_sigma.map(f64::from)),
+    )
 }
 
 /// A pointing ray that passed every check.

@@ -54,6 +54,7 @@ fn a_good_snapshot_becomes_a_scene_graph() {
     assert_eq!(s.graph.feature_dim(), 2);
     assert_eq!(s.graph.objects()[1].feature, vec![1.0, 0.2]);
     assert_eq!(s.graph.objects()[2].position.x, f64::from(0.3f32));
+    assert_eq!(s.graph.objects()[0].position_sigma, [f64::from(0.01f32); 3]);
 }
 
 #[test]

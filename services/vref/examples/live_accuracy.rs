@@ -22,6 +22,9 @@ struct Args {
     /// Objects in the world, comma-separated; 0 for the preset's own counts.
     #[arg(long, value_delimiter = ',', default_value = "0,32,64")]
     objects: Vec<usize>,
+    /// Seed of the world (default: the configuration's `[feeds] seed`).
+    #[arg(long)]
+    seed: Option<u64>,
     /// Methods to score; repeat for several.
     #[arg(long, default_values = ["rigid", "paper"])]
     method: Vec<Method>,
@@ -31,7 +34,10 @@ const MOMENTS: u64 = 40;
 
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
-    let (config, _) = vref_config::Config::load(None).context("loading the configuration")?;
+    let (mut config, _) = vref_config::Config::load(None).context("loading the configuration")?;
+    if let Some(seed) = args.seed {
+        config.feeds.seed = seed;
+    }
     let params: Params = config.matching;
     let limits = Limits::default();
     println!(

@@ -5,6 +5,8 @@ use vref_scene::SceneGraph;
 pub(super) struct Tracked {
     pub id: u64,
     pub position: [f64; 3],
+    /// Variance per axis of the stated position error.
+    pub variance: f64,
     pub feature: Vec<f32>,
     pub norm: f64,
 }
@@ -65,6 +67,7 @@ impl View {
                 Tracked {
                     id: o.id,
                     position: [o.position.x, o.position.y, o.position.z],
+                    variance: crate::problem::position_variance(&o.position_sigma),
                     feature: o.feature.clone(),
                     norm,
                 }

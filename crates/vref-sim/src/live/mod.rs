@@ -332,7 +332,10 @@ impl LiveView {
         let objects = self
             .objects
             .iter()
-            .map(|o| SceneObject::new(o.id, o.position.coords.into(), o.feature.clone()))
+            .map(|o| {
+                SceneObject::new(o.id, o.position.coords.into(), o.feature.clone())
+                    .with_sigma(o.sigma)
+            })
             .collect();
         SceneGraph::new(objects, None, limits)
     }
