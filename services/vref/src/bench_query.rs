@@ -208,9 +208,10 @@ fn measure(
 
 fn classify(report: &mut Report, answer: &ReferenceAnswer, took: Duration) {
     match answer.status() {
-        // Only these went through the solution; their flag says whether
-        // it had to be computed first.
-        AnswerStatus::Ok | AnswerStatus::Ambiguous => {
+        // Only these went through the solution (queries name a human
+        // object, so `no_match` is the solution's "no partner"); their
+        // flag says whether it had to be computed first.
+        AnswerStatus::Ok | AnswerStatus::Ambiguous | AnswerStatus::NoMatch => {
             if answer.solved() {
                 report.solve.push(took);
             } else {
