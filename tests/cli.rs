@@ -235,3 +235,75 @@ fn config_check_accepts_the_shipped_file_and_names_an_unknown_key() {
     assert_eq!(run.code, Some(2));
     assert!(run.stderr.contains("rrwm.c"), "{}", run.stderr);
 }
+
+/// The exact tier's product runs in AVX-512, AVX2 or baseline code by what
+/// the CPU has; `VREF_SIMD` caps it, so every path this CPU has can be
+/// checked end to end: all must give the same answers.
+#[test]
+fn every_simd_path_gives_the_exact_tier_the_same_answers() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("rigid.jsonl");
+    let scenes = scenes.to_str().unwrap();
+    vref(
+        &[
+            "scenes",
+            "--preset",
+            "rigid",
+            "--objects",
+            "24",
+            "--count",
+            "3",
+            "--seed",
+            "5",
+            "--out",
+            scenes,
+        ],
+        Duration::from_secs(60),
+    )
+    .ok();
+    let answers = |cap: &str| {
+        let out = dir.path().join(format!("answers-{cap}.jsonl"));
+        let out = out.to_str().unwrap().to_owned();
+        let args = [
+            "eval",
+            "--dataset",
+            scenes,
+            "--method",
+            "paper",
+            "--method",
+            "rrwm",
+            "--method",
+            "sm",
+            "--tier",
+            "exact",
+            "--answers",
+            &out,
+        ];
+        support::vref_with(
+            std::path::Path::new(env!("CARGO_BIN_EXE_vref")),
+            &args,
+            &[("VREF_SIMD", cap)],
+            Duration::from_secs(120),
+        )
+        .ok();
+        json_lines(&std::fs::read_to_string(&out).unwrap())
+    };
+    let widest = answers("avx512");
+    assert!(!widest.is_empty());
+    for cap in ["avx2", "baseline"] {
+        let narrower = answers(cap);
+        assert_eq!(narrower.len(), widest.len(), "{cap}");
+        for (a, b) in narrower.iter().zip(&widest) {
+            // The same verdict for every object; confidences within
+            // rounding (sums in another order).
+            for key in ["scene", "method", "row", "correct", "matched"] {
+                assert_eq!(a[key], b[key], "{cap}: {a} vs {b}");
+            }
+            let (ca, cb) = (
+                a["confidence"].as_f64().unwrap(),
+                b["confidence"].as_f64().unwrap(),
+            );
+            assert!((ca - cb).abs() <= 1e-6, "{cap}: {a} vs {b}");
+        }
+    }
+}

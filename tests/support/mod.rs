@@ -56,8 +56,14 @@ pub fn vref(args: &[&str], limit: Duration) -> Run {
 /// Like [`vref`], with the `vref` binary at `program` (a copy beside
 /// other service binaries, say).
 pub fn vref_at(program: &Path, args: &[&str], limit: Duration) -> Run {
+    vref_with(program, args, &[], limit)
+}
+
+/// Like [`vref_at`], with environment variables `env` set.
+pub fn vref_with(program: &Path, args: &[&str], env: &[(&str, &str)], limit: Duration) -> Run {
     let config = repo_root().join("config/vref.toml");
     let mut child = Command::new(program)
+        .envs(env.iter().copied())
         .args(args)
         .env("VREF_CONFIG", &config)
         .env_remove("RUST_LOG")
