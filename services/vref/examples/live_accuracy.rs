@@ -13,7 +13,9 @@
 
 use anyhow::Context;
 use clap::Parser;
-use vref_match::{Method, Params, Problem, RigidMotion, score_scene, solve};
+use vref_match::{
+    ECE_BINS, Method, Params, Problem, RigidMotion, expected_calibration_error, score_scene, solve,
+};
 use vref_scene::{Limits, SceneGraph, Side};
 use vref_sim::LiveWorld;
 
@@ -41,7 +43,7 @@ fn main() -> anyhow::Result<()> {
     let params: Params = config.matching;
     let limits = Limits::default();
     println!(
-        "objects  method  accuracy  precision  unmatched  with partner  residual p50/p90  0.4 x spacing"
+        "objects  method  accuracy  precision  ece    unmatched  with partner  residual p50/p90  0.4 x spacing"
     );
     for &n in &args.objects {
         let (_, world) = vref_feed::synthetic_world(&config.feeds, (n > 0).then_some(n))
@@ -50,6 +52,7 @@ fn main() -> anyhow::Result<()> {
         for &method in &args.method {
             let (mut accuracy, mut precision, mut unmatched, mut humans, mut partners) =
                 (0.0, 0.0, 0, 0, 0);
+            let mut answers = Vec::new();
             for k in 0..MOMENTS {
                 let t = 1_000.0 + k as f64 * 1.7;
                 let (human, robot) = views(&world, t, k, &limits)?;
@@ -63,6 +66,15 @@ fn main() -> anyhow::Result<()> {
                     .filter_map(|(a, &h)| a.map(|j| (h, robot.objects()[j].id)))
                     .collect();
                 let truth = world.truth(t);
+                let partner: std::collections::HashMap<u64, u64> = truth.iter().copied().collect();
+                for ((&h, a), &c) in ids
+                    .iter()
+                    .zip(&solution.assignment)
+                    .zip(&solution.confidence)
+                {
+                    let said = a.map(|j| robot.objects()[j].id);
+                    answers.push((c, said == partner.get(&h).copied()));
+                }
                 let score = score_scene(&ids, &predicted, &truth);
                 accuracy += score.accuracy;
                 precision += score.precision;
@@ -72,10 +84,11 @@ fn main() -> anyhow::Result<()> {
             }
             let moments = MOMENTS as f64;
             println!(
-                "{n:7}  {:6}  {:8.3}  {:9.3}  {:9.2}  {:12.2}  {:7.3} / {:.3} m  {:.3} m",
+                "{n:7}  {:6}  {:8.3}  {:9.3}  {:5.3}  {:9.2}  {:12.2}  {:7.3} / {:.3} m  {:.3} m",
                 method.to_string(),
                 accuracy / moments,
                 precision / moments,
+                expected_calibration_error(&answers, ECE_BINS),
                 unmatched as f64 / humans as f64,
                 partners as f64 / humans as f64,
                 residuals.0,
