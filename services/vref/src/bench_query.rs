@@ -460,11 +460,16 @@ mod tests {
             reserved: 0,
         });
         assert_eq!(answer.request_id, 3);
+        // Never reached the solution.
+        answer.status = AnswerStatus::BadRequest as u32;
         classify(&mut report, &answer, Duration::from_micros(1));
         answer.status = AnswerStatus::Ok as u32;
         classify(&mut report, &answer, Duration::from_micros(1));
         answer.flags = ReferenceAnswer::FLAG_SOLVED;
         answer.status = AnswerStatus::Ambiguous as u32;
+        classify(&mut report, &answer, Duration::from_micros(1));
+        // "No partner" comes from the solution too.
+        answer.status = AnswerStatus::NoMatch as u32;
         classify(&mut report, &answer, Duration::from_micros(1));
         assert_eq!(
             (
@@ -472,7 +477,7 @@ mod tests {
                 report.solve.count(),
                 report.other_total()
             ),
-            (1, 1, 1)
+            (1, 2, 1)
         );
     }
 
