@@ -46,7 +46,7 @@ pub use metrics::{SceneScore, Stat, Summary, score_scene};
 pub use pair_kernel::PairAffinity;
 pub use params::{LiveParams, PaperParams, Params, RrwmParams, SmParams};
 pub use problem::{Problem, position_variance};
-pub use rigid::RigidMotion;
+pub use rigid::{RigidMotion, median_spacing};
 pub use sinkhorn::{Sinkhorn, sinkhorn_slack};
 pub use solution::Solution;
 pub use spatial::SpatialAffinity;

@@ -81,3 +81,27 @@ impl RigidMotion {
         (sum / k as f64).sqrt()
     }
 }
+
+/// Median distance from each point to its nearest neighbour (the scale
+/// of `rigid`'s residuals is a fraction of the robot view's); `None` below
+/// two points or when all coincide.
+pub fn median_spacing(points: &[Point3<f64>]) -> Option<f64> {
+    if points.len() < 2 {
+        return None;
+    }
+    let mut nearest: Vec<f64> = points
+        .iter()
+        .enumerate()
+        .map(|(a, p)| {
+            points
+                .iter()
+                .enumerate()
+                .filter(|&(b, _)| b != a)
+                .map(|(_, q)| (p - q).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    nearest.sort_by(f64::total_cmp);
+    let median = nearest[nearest.len() / 2];
+    (median.is_finite() && median > 0.0).then_some(median)
+}

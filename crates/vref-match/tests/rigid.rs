@@ -7,7 +7,7 @@ mod common;
 use nalgebra::{Matrix3, Point3, Rotation3, Vector3};
 use vref_match::{
     Calibration, Method, Params, Problem, RigidMotion, expected_calibration_error, logit,
-    score_scene, solve,
+    median_spacing, score_scene, solve,
 };
 use vref_scene::{Limits, SceneGraph, SceneObject};
 
@@ -531,18 +531,7 @@ fn a_stated_position_error_widens_that_pair_only() {
     let human = cloud();
     let mut robot: Vec<_> = human.iter().map(|p| rotation * p + translation).collect();
     // rigid's sigma: 0.4 x the robot view's median nearest-neighbour distance.
-    let mut nearest: Vec<f64> = robot
-        .iter()
-        .map(|p| {
-            robot
-                .iter()
-                .filter(|q| *q != p)
-                .map(|q| (p - q).norm())
-                .fold(f64::INFINITY, f64::min)
-        })
-        .collect();
-    nearest.sort_by(f64::total_cmp);
-    let sigma = 0.4 * nearest[nearest.len() / 2];
+    let sigma = 0.4 * median_spacing(&robot).unwrap();
     // Object 0 is measured 4 sigma off: 8 nats, above the 4.5 of "no partner".
     robot[0] += Vector3::new(4.0 * sigma, 0.0, 0.0);
     // Every object looks different, so only its position is in doubt.

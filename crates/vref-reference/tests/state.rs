@@ -110,6 +110,22 @@ fn query(kind: QueryKind, id: u64, origin: [f32; 3], direction: [f32; 3]) -> Ref
     }
 }
 
+/// The person's first gesture, from the origin toward object 4 of the
+/// human view.
+fn pointing_at_object_4() -> PointingRay {
+    PointingRay {
+        session: 5,
+        sequence: 1,
+        timestamp_ns: 0,
+        origin: [0.0; 3],
+        direction: WORLD[3],
+        cone_half_angle: 0.05,
+        confidence: 1.0,
+        schema_version: SCHEMA_VERSION,
+        reserved: 0,
+    }
+}
+
 fn status(a: &ReferenceAnswer) -> u32 {
     a.status
 }
@@ -174,17 +190,7 @@ fn answers_by_ray_and_latest_gesture() {
 
     let none = s.answer(&query(QueryKind::LatestGesture, 0, [0.0; 3], [0.0; 3]), now);
     assert_eq!(none.status, AnswerStatus::NotReady as u32);
-    let ray = PointingRay {
-        session: 5,
-        sequence: 1,
-        timestamp_ns: 0,
-        origin: [0.0; 3],
-        direction: WORLD[3],
-        cone_half_angle: 0.05,
-        confidence: 1.0,
-        schema_version: SCHEMA_VERSION,
-        reserved: 0,
-    };
+    let ray = pointing_at_object_4();
     s.accept_ray(&ray).unwrap();
     let a = s.answer(&query(QueryKind::LatestGesture, 0, [0.0; 3], [0.0; 3]), now);
     assert_eq!(
@@ -435,17 +441,7 @@ fn cached_answers_allocate_nothing() {
     for method in ["rigid", "paper"] {
         let now = Instant::now();
         let mut s = ready_with(settings(method), now);
-        let ray = PointingRay {
-            session: 5,
-            sequence: 1,
-            timestamp_ns: 0,
-            origin: [0.0; 3],
-            direction: WORLD[3],
-            cone_half_angle: 0.05,
-            confidence: 1.0,
-            schema_version: SCHEMA_VERSION,
-            reserved: 0,
-        };
+        let ray = pointing_at_object_4();
         s.accept_ray(&ray).unwrap();
         let queries = [
             query(QueryKind::HumanObject, 2, [0.0; 3], [0.0; 3]),

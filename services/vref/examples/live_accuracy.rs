@@ -14,7 +14,8 @@
 use anyhow::Context;
 use clap::Parser;
 use vref_match::{
-    ECE_BINS, Method, Params, Problem, RigidMotion, expected_calibration_error, score_scene, solve,
+    ECE_BINS, Method, Params, Problem, RigidMotion, expected_calibration_error, median_spacing,
+    score_scene, solve,
 };
 use vref_scene::{Limits, SceneGraph, Side};
 use vref_sim::LiveWorld;
@@ -135,21 +136,8 @@ fn residuals(world: &LiveWorld, limits: &Limits) -> anyhow::Result<(f64, f64, f6
             );
         }
         let points: Vec<_> = robot.objects().iter().map(|o| o.position).collect();
-        let mut nearest: Vec<f64> = points
-            .iter()
-            .enumerate()
-            .map(|(a, p)| {
-                points
-                    .iter()
-                    .enumerate()
-                    .filter(|&(b, _)| b != a)
-                    .map(|(_, q)| (p - q).norm())
-                    .fold(f64::INFINITY, f64::min)
-            })
-            .collect();
-        nearest.sort_by(f64::total_cmp);
-        if let Some(&median) = nearest.get(nearest.len() / 2) {
-            sigmas.push(0.4 * median);
+        if let Some(spacing) = median_spacing(&points) {
+            sigmas.push(0.4 * spacing);
         }
     }
     Ok((

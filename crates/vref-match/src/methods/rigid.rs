@@ -10,7 +10,7 @@ use nalgebra::Point3;
 use serde::{Deserialize, Serialize};
 
 use crate::calibration::Calibration;
-use crate::rigid::RigidMotion;
+use crate::rigid::{RigidMotion, median_spacing};
 use crate::{MatchError, Params, Problem, Solution, hungarian_max};
 
 /// Constants of the `rigid` method.
@@ -285,7 +285,8 @@ impl<'a> Costs<'a> {
 pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     let rp = &params.rigid;
     let (n, m) = (problem.n, problem.m);
-    let sigma = rp.sigma_factor * spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
+    let sigma =
+        rp.sigma_factor * median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
     let log_g = appearance_log_likelihood(problem, rp.appearance_temperature);
     let costs = Costs::new(problem, &log_g, sigma, rp.stated_errors);
     // The search's tolerances follow the typical pair's scale.
@@ -821,29 +822,6 @@ fn probe_points(points: &[Point3<f64>]) -> Vec<Point3<f64>> {
         }
     }
     probes
-}
-
-/// Median distance from each robot object to its nearest neighbour;
-/// `None` below two objects or when all coincide.
-fn spacing(points: &[Point3<f64>]) -> Option<f64> {
-    if points.len() < 2 {
-        return None;
-    }
-    let mut nearest: Vec<f64> = points
-        .iter()
-        .enumerate()
-        .map(|(a, p)| {
-            points
-                .iter()
-                .enumerate()
-                .filter(|&(b, _)| b != a)
-                .map(|(_, q)| (p - q).norm())
-                .fold(f64::INFINITY, f64::min)
-        })
-        .collect();
-    nearest.sort_by(f64::total_cmp);
-    let median = nearest[nearest.len() / 2];
-    (median.is_finite() && median > 0.0).then_some(median)
 }
 
 /// Whether either view states a position error for some object.
