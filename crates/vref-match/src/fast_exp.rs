@@ -16,11 +16,7 @@ const ROUNDER: f64 = 6_755_399_441_055_744.0;
 /// the exact value relative to it.
 #[inline(always)]
 pub fn exp_neg(t: f64) -> f64 {
-    let x = -t.clamp(0.0, CUTOFF);
-    let shifted = x * LOG2_E + ROUNDER;
-    let k = shifted - ROUNDER;
-    let k_bits = shifted.to_bits().wrapping_sub(ROUNDER.to_bits());
-    let r = (x - k * LN2_HI) - k * LN2_LO;
+    let (r, scale) = reduce(t);
     // Taylor series of exp(r) for |r| <= ln2 / 2, Horner form, to r^13.
     let mut p = 1.0 / 6_227_020_800.0;
     for c in [
@@ -40,10 +36,7 @@ pub fn exp_neg(t: f64) -> f64 {
     ] {
         p = p * r + c;
     }
-    // 2^k by building the exponent bits; k is in [-1022, 0].
-    let scale = f64::from_bits(k_bits.wrapping_add(1023) << 52);
-    let value = p * scale;
-    if t > CUTOFF || t.is_nan() { 0.0 } else { value }
+    scaled(t, p, scale)
 }
 
 /// `exp(-t)` for values to be stored as f32 (the exact tier's kernel
@@ -54,11 +47,7 @@ pub fn exp_neg(t: f64) -> f64 {
 /// (elsewhere `mul_add` is a library call).
 #[inline(always)]
 pub fn exp_neg_single_with<const FMA: bool>(t: f64) -> f64 {
-    let x = -t.clamp(0.0, CUTOFF);
-    let shifted = x * LOG2_E + ROUNDER;
-    let k = shifted - ROUNDER;
-    let k_bits = shifted.to_bits().wrapping_sub(ROUNDER.to_bits());
-    let r = (x - k * LN2_HI) - k * LN2_LO;
+    let (r, scale) = reduce(t);
     let mut p: f64 = 1.0 / 362_880.0;
     for c in [
         1.0 / 40_320.0,
@@ -73,7 +62,27 @@ pub fn exp_neg_single_with<const FMA: bool>(t: f64) -> f64 {
     ] {
         p = if FMA { p.mul_add(r, c) } else { p * r + c };
     }
+    scaled(t, p, scale)
+}
+
+/// `-t = k ln2 + r` with `|r| <= ln2 / 2`: returns `r` and `2^k`, so that
+/// `exp(-t) = exp(r) 2^k`. `t` is clamped to `[0, 708]` first.
+#[inline(always)]
+fn reduce(t: f64) -> (f64, f64) {
+    let x = -t.clamp(0.0, CUTOFF);
+    let shifted = x * LOG2_E + ROUNDER;
+    let k = shifted - ROUNDER;
+    let k_bits = shifted.to_bits().wrapping_sub(ROUNDER.to_bits());
+    let r = (x - k * LN2_HI) - k * LN2_LO;
+    // 2^k by building the exponent bits; k is in [-1022, 0].
     let scale = f64::from_bits(k_bits.wrapping_add(1023) << 52);
+    (r, scale)
+}
+
+/// `exp(r) 2^k` from the series value `p` of `exp(r)`, and 0 for NaN and
+/// for `t` beyond the cutoff (where the clamp kept the value finite).
+#[inline(always)]
+fn scaled(t: f64, p: f64, scale: f64) -> f64 {
     let value = p * scale;
     if t > CUTOFF || t.is_nan() { 0.0 } else { value }
 }

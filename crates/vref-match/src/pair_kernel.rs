@@ -28,12 +28,8 @@ impl PairAffinity {
         robot: &[f64],
         beta: f64,
     ) -> Self {
-        let c = pairs.len();
-        let mut table = vec![0.0; c * c];
         let geometry = Geometry::new(n, m, human, robot, beta, &pairs);
-        for (p, row) in table.chunks_exact_mut(c.max(1)).enumerate().take(c) {
-            geometry.fill_row(p, row);
-        }
+        let table = table(&geometry, pairs.len(), None);
         Self { n, m, pairs, table }
     }
 
@@ -75,22 +71,7 @@ impl PairAffinity {
             previous.pairs.binary_search(&(i * previous.m + a)).ok()
         };
         let slots: Vec<Option<usize>> = pairs.iter().map(|&f| old_slot(f)).collect();
-        let (c, oc) = (pairs.len(), previous.pairs.len());
-        let mut table = vec![0.0; c * c];
-        for (p, row) in table.chunks_exact_mut(c.max(1)).enumerate().take(c) {
-            match slots[p] {
-                Some(op) => {
-                    let old_row = &previous.table[op * oc..(op + 1) * oc];
-                    for (q, value) in row.iter_mut().enumerate() {
-                        *value = match slots[q] {
-                            Some(oq) => old_row[oq],
-                            None => geometry.kernel(p, q),
-                        };
-                    }
-                }
-                None => geometry.fill_row(p, row),
-            }
-        }
+        let table = table(&geometry, pairs.len(), Some((&previous, &slots)));
         Self { n, m, pairs, table }
     }
 
@@ -143,6 +124,34 @@ impl PairAffinity {
             out[fp] = dot(&self.table[p * c..(p + 1) * c], &gathered);
         }
     }
+}
+
+/// The `c x c` kernel table of `geometry`'s candidate pairs. With `reuse`
+/// (a previous table and, per pair, its slot there if neither of its
+/// objects changed), values between two kept pairs are copied instead of
+/// recomputed.
+fn table(
+    geometry: &Geometry<'_>,
+    c: usize,
+    reuse: Option<(&PairAffinity, &[Option<usize>])>,
+) -> Vec<f64> {
+    let mut table = vec![0.0; c * c];
+    for (p, row) in table.chunks_exact_mut(c.max(1)).enumerate().take(c) {
+        match reuse.and_then(|(previous, slots)| Some((previous, slots, slots[p]?))) {
+            Some((previous, slots, op)) => {
+                let oc = previous.pairs.len();
+                let old_row = &previous.table[op * oc..(op + 1) * oc];
+                for (q, value) in row.iter_mut().enumerate() {
+                    *value = match slots[q] {
+                        Some(oq) => old_row[oq],
+                        None => geometry.kernel(p, q),
+                    };
+                }
+            }
+            None => geometry.fill_row(p, row),
+        }
+    }
+    table
 }
 
 /// The two distance matrices and the bandwidth a kernel value needs, with
