@@ -34,6 +34,18 @@ pub struct RigidParams {
     /// residual scale is sigma combined with both stated errors (false:
     /// sigma alone, as for dataset files, which state none).
     pub stated_errors: bool,
+    /// Depth error of an RGB-D camera per metre of range squared: it lies
+    /// along the ray from the camera (the origin of a view's frame) and
+    /// grows with the square of the range, so a pair's residual is weighed
+    /// in a metric stretched along both objects' rays. 0 treats every
+    /// direction alike. Used only for views in front of their camera
+    /// (every z > 0) that state no position errors.
+    pub depth_error: f64,
+    /// With the depth-error model: the scale of the error in every
+    /// direction besides, as a multiple of the median nearest-neighbour
+    /// distance (smaller than `sigma_factor`, which must cover the depth
+    /// error too).
+    pub lateral_factor: f64,
 
     /// Cost of leaving a human object without a partner, in the units of
     /// the pair cost `-ln(appearance likelihood) + r^2 / (2 sigma^2)`.
@@ -94,6 +106,8 @@ impl Default for RigidParams {
             hypotheses: 200,
             sigma_factor: 0.4,
             stated_errors: true,
+            depth_error: 0.065,
+            lateral_factor: 0.2,
             unmatched_cost: 4.5,
             decisive_share: 0.8,
             decisive_after: 100,
@@ -120,6 +134,7 @@ impl RigidParams {
             ("rigid.unmatched_cost", self.unmatched_cost),
             ("rigid.decisive_share", self.decisive_share),
             ("rigid.motion_temperature", self.motion_temperature),
+            ("rigid.lateral_factor", self.lateral_factor),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(MatchError::BadParameter {
@@ -140,6 +155,13 @@ impl RigidParams {
                     expected: "at least 1",
                 });
             }
+        }
+        if !(self.depth_error.is_finite() && self.depth_error >= 0.0) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.depth_error",
+                value: self.depth_error,
+                expected: "zero or positive and finite",
+            });
         }
         if !(0.0..=1.0).contains(&self.abstain_motion) {
             return Err(MatchError::BadParameter {
@@ -197,13 +219,82 @@ struct Costs<'a> {
     /// Robot positions by coordinate, so that a row of costs is one
     /// vectorisable pass (the search computes thousands of rows).
     robot_xyz: [Vec<f64>; 3],
+    rays: Option<Rays>,
+    /// The residual scale of a typical pair.
+    typical: f64,
+}
+
+/// Each object's ray from its camera and depth variance along it.
+struct Rays {
+    /// Unit rays of the human objects (human frame) and their variances.
+    human: Vec<(nalgebra::Vector3<f64>, f64)>,
+    /// Robot rays by coordinate, and their variances.
+    robot_u: [Vec<f64>; 3],
+    robot_var: Vec<f64>,
+    /// Lateral variance (sigma squared).
+    lateral: f64,
+}
+
+impl Rays {
+    fn of(problem: &Problem, depth_error: f64, sigma: f64) -> Option<Self> {
+        let in_front = |ps: &[Point3<f64>]| ps.iter().all(|p| p.z > 0.0);
+        if !(depth_error > 0.0
+            && in_front(&problem.human_positions)
+            && in_front(&problem.robot_positions))
+        {
+            return None;
+        }
+        let ray = |p: &Point3<f64>| {
+            let r = p.coords.norm();
+            let s = depth_error * r;
+            (p.coords / r, s * s)
+        };
+        let human = problem.human_positions.iter().map(ray).collect();
+        let robot: Vec<_> = problem.robot_positions.iter().map(ray).collect();
+        let axis = |k: usize| robot.iter().map(|(u, _)| u[k]).collect();
+        Some(Self {
+            human,
+            robot_u: [axis(0), axis(1), axis(2)],
+            robot_var: robot.iter().map(|(_, v)| *v).collect(),
+            lateral: sigma * sigma,
+        })
+    }
+
+    /// Half the squared Mahalanobis length of residual `r` of human object
+    /// `i` (ray `w` in the robot frame, `alpha` = h / (lateral + h)) against
+    /// robot object `j`: the covariance is `lateral I + h w w^T + c u u^T`,
+    /// inverted by Sherman-Morrison twice.
+    #[inline]
+    fn half_distance2(&self, r: [f64; 3], w: [f64; 3], alpha: f64, j: usize) -> f64 {
+        let u = [self.robot_u[0][j], self.robot_u[1][j], self.robot_u[2][j]];
+        let c = self.robot_var[j];
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (rr, wr, ur, wu) = (dot(r, r), dot(w, r), dot(u, r), dot(w, u));
+        let inv = 1.0 / self.lateral;
+        let a = (rr - alpha * wr * wr) * inv;
+        let b = (ur - alpha * wu * wr) * inv;
+        let uu = (1.0 - alpha * wu * wu) * inv;
+        0.5 * (a - c * b * b / (1.0 + c * uu))
+    }
+
+    /// Human object `i`'s ray under `rotation` and its `alpha`.
+    fn human_ray(&self, i: usize, rotation: &nalgebra::Matrix3<f64>) -> ([f64; 3], f64) {
+        let (v, h) = self.human[i];
+        let w = rotation * v;
+        ([w.x, w.y, w.z], h / (self.lateral + h))
+    }
 }
 
 impl<'a> Costs<'a> {
-    fn new(problem: &'a Problem, log_g: &'a [f64], sigma: f64, use_stated: bool) -> Self {
+    /// The costs of `problem` with residual scales from the robot view's
+    /// object `spacing`: the sensors' stated errors where they state any,
+    /// else the depth-error model where it applies, else one isotropic
+    /// sigma.
+    fn new(problem: &'a Problem, log_g: &'a [f64], spacing: f64, rp: &RigidParams) -> Self {
         let axis = |k: usize| problem.robot_positions.iter().map(|p| p[k]).collect();
+        let sigma = rp.sigma_factor * spacing;
         let sigma2 = sigma * sigma;
-        let stated = (use_stated && has_stated_errors(problem)).then(|| {
+        let stated = (rp.stated_errors && has_stated_errors(problem)).then(|| {
             let (n, m) = (problem.n, problem.m);
             let mut inv = Vec::with_capacity(n * m);
             for i in 0..n {
@@ -216,21 +307,46 @@ impl<'a> Costs<'a> {
             }
             inv
         });
+        let rays = if stated.is_none() {
+            Rays::of(problem, rp.depth_error, rp.lateral_factor * spacing)
+        } else {
+            None
+        };
+        // The search's tolerances follow the typical pair's scale.
+        let typical = if stated.is_some() {
+            (sigma2 + median(&problem.human_variances) + median(&problem.robot_variances)).sqrt()
+        } else if let Some(rays) = &rays {
+            let human: Vec<f64> = rays.human.iter().map(|(_, h)| *h).collect();
+            (rays.lateral + median(&human) + median(&rays.robot_var)).sqrt()
+        } else {
+            sigma
+        };
         Self {
             problem,
             log_g,
             inv_two_sigma2: 1.0 / (2.0 * sigma2),
             stated,
             robot_xyz: [axis(0), axis(1), axis(2)],
+            rays,
+            typical,
         }
     }
 
     /// Costs of human object `i`, moved to `moved`, against every robot
     /// object, into `out` (length m).
-    fn row(&self, i: usize, moved: &Point3<f64>, out: &mut [f64]) {
+    fn row(&self, i: usize, motion: &RigidMotion, out: &mut [f64]) {
         let m = self.problem.m;
+        let moved = &motion.apply(&self.problem.human_positions[i]);
         let log_g = &self.log_g[i * m..(i + 1) * m];
         let [xs, ys, zs] = &self.robot_xyz;
+        if let Some(rays) = &self.rays {
+            let (w, alpha) = rays.human_ray(i, &motion.rotation);
+            for (k, o) in out.iter_mut().enumerate() {
+                let r = [moved.x - xs[k], moved.y - ys[k], moved.z - zs[k]];
+                *o = rays.half_distance2(r, w, alpha, k) - log_g[k];
+            }
+            return;
+        }
         if let Some(inv) = &self.stated {
             let inv = &inv[i * m..(i + 1) * m];
             for (k, o) in out.iter_mut().enumerate() {
@@ -256,8 +372,13 @@ impl<'a> Costs<'a> {
         let m = self.problem.m;
         let appearance = -self.log_g[i * m + j];
         match (motion, moved) {
-            (Some(_), Some(p)) => {
-                let r2 = (p - self.problem.robot_positions[j]).norm_squared();
+            (Some(t), Some(p)) => {
+                let d = p - self.problem.robot_positions[j];
+                if let Some(rays) = &self.rays {
+                    let (w, alpha) = rays.human_ray(i, &t.rotation);
+                    return appearance + rays.half_distance2([d.x, d.y, d.z], w, alpha, j);
+                }
+                let r2 = d.norm_squared();
                 let inv = self
                     .stated
                     .as_ref()
@@ -285,17 +406,10 @@ impl<'a> Costs<'a> {
 pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     let rp = &params.rigid;
     let (n, m) = (problem.n, problem.m);
-    let sigma =
-        rp.sigma_factor * median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
+    let spacing = median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
     let log_g = appearance_log_likelihood(problem, rp.appearance_temperature);
-    let costs = Costs::new(problem, &log_g, sigma, rp.stated_errors);
-    // The search's tolerances follow the typical pair's scale.
-    let typical = if costs.stated.is_some() {
-        (sigma * sigma + median(&problem.human_variances) + median(&problem.robot_variances)).sqrt()
-    } else {
-        sigma
-    };
-    let found = search(&costs, typical, rp);
+    let costs = Costs::new(problem, &log_g, spacing, rp);
+    let found = search(&costs, costs.typical, rp);
     let mut motion = found.as_ref().map(|f| f.motion);
     let mut cost = costs.matrix(motion.as_ref());
     let mut assignment = assign(&cost, n, m, rp.unmatched_cost);
@@ -463,13 +577,34 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
     // without them to fill the kept few.
     let keep = rp.local_optimisations.max(1);
     let mut settled = false;
-    for min_edge in [tolerance, 0.0] {
+    // Rounds of (distance tolerance, shortest edge, shortcut). Under the
+    // depth-error model the tolerance must admit errors along the rays that
+    // are large against the spacing, which leaves guided sampling little to
+    // go on. A first round at the lateral scale alone settles scenes whose
+    // positions are better than the model assumes at once; it is a
+    // shortcut only: unless it settles the scene it is forgotten (its own
+    // generator, its motions dropped), so it never changes the answer to a
+    // scene it does not settle.
+    let mut rounds = Vec::with_capacity(3);
+    if let Some(rays) = &costs.rays {
+        let precise = 3.0 * rays.lateral.sqrt();
+        rounds.push((precise, precise, true));
+    }
+    rounds.extend([(tolerance, tolerance, false), (tolerance, 0.0, false)]);
+    let mut shortcut_rng = SplitMix(!rng.0);
+    for (tolerance, min_edge, shortcut) in rounds {
         // Without a decisive motion the short edges get their turn too: in
         // a scene of a few objects the right triangle may have no edge
         // longer than the tolerance, while wrong ones fill the kept few.
-        if settled || (!rp.short_edges_always && top.len() >= keep) {
+        let short = min_edge == 0.0;
+        if settled || (short && !rp.short_edges_always && top.len() >= keep) {
             break;
         }
+        let rng = if shortcut {
+            &mut shortcut_rng
+        } else {
+            &mut rng
+        };
         let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
             let dh = (hp[i] - hp[j]).norm();
             let dr = (rpos[a] - rpos[b]).norm();
@@ -530,6 +665,9 @@ fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
                     break;
                 }
             }
+        }
+        if shortcut && !settled {
+            top.clear();
         }
     }
     // Local optimisation: a motion fitted to three noisy pairs is only
@@ -654,8 +792,7 @@ fn greedy(
     scratch.row.resize(m, 0.0);
     let mut bound = unmatched * n as f64;
     for i in 0..n {
-        let moved = motion.apply(&problem.human_positions[i]);
-        costs.row(i, &moved, &mut scratch.row);
+        costs.row(i, motion, &mut scratch.row);
         // The two best columns of the row, so that a row whose best is
         // taken can still fall back to its second.
         let mut first = (f64::INFINITY, usize::MAX);
@@ -915,5 +1052,59 @@ impl SplitMix {
 
     fn below(&mut self, bound: usize) -> usize {
         (self.next() % bound.max(1) as u64) as usize
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use nalgebra::{Matrix3, Vector3};
+
+    use super::{Rays, SplitMix};
+
+    /// The Sherman-Morrison form against the covariance inverted outright.
+    #[test]
+    fn ray_distance_is_the_mahalanobis_distance_of_the_ray_covariance() {
+        let mut rng = SplitMix(7);
+        let mut unit = || (rng.next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        for _ in 0..200 {
+            let mut vector = || Vector3::new(unit(), unit(), unit());
+            let (r, w, u) = (vector(), vector().normalize(), vector().normalize());
+            let (lateral, h, c) = (0.01 + unit().abs(), 4.0 * unit().abs(), 4.0 * unit().abs());
+            let rays = Rays {
+                human: vec![(w, h)],
+                robot_u: [vec![u.x], vec![u.y], vec![u.z]],
+                robot_var: vec![c],
+                lateral,
+            };
+            let covariance =
+                Matrix3::identity() * lateral + w * w.transpose() * h + u * u.transpose() * c;
+            let expected = 0.5 * (r.transpose() * covariance.try_inverse().unwrap() * r)[0];
+            let (w_moved, alpha) = rays.human_ray(0, &Matrix3::identity());
+            let got = rays.half_distance2([r.x, r.y, r.z], w_moved, alpha, 0);
+            assert!(
+                (got - expected).abs() <= 1e-9 * expected.max(1.0),
+                "{got} against {expected}"
+            );
+        }
+    }
+
+    /// An error along the ray costs what its variance says, one across it
+    /// only the lateral scale's: the model that tells look-alikes apart
+    /// where depth error is large.
+    #[test]
+    fn error_along_the_ray_costs_less_than_across_it() {
+        let rays = Rays {
+            human: vec![(Vector3::z(), 0.0)],
+            robot_u: [vec![0.0], vec![0.0], vec![1.0]],
+            robot_var: vec![3.0],
+            lateral: 1.0,
+        };
+        let (w, alpha) = rays.human_ray(0, &Matrix3::identity());
+        let along = rays.half_distance2([0.0, 0.0, 2.0], w, alpha, 0);
+        let across = rays.half_distance2([2.0, 0.0, 0.0], w, alpha, 0);
+        assert!((along - 0.5).abs() < 1e-12, "{along}");
+        assert!((across - 2.0).abs() < 1e-12, "{across}");
     }
 }
