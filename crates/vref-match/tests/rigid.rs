@@ -566,3 +566,54 @@ fn a_stated_position_error_widens_that_pair_only() {
     let ignored = solve_with_stated(4.0 * sigma, false);
     assert_eq!(ignored, unstated, "stated errors switched off");
 }
+
+/// In camera frames (every z > 0) a stated error lies along the object's
+/// ray: a position that far off along the ray is still its object's, the
+/// same distance across the ray is not (the lateral scale is far smaller).
+#[test]
+fn a_stated_error_in_a_camera_frame_lies_along_the_ray() {
+    let human: Vec<_> = cloud()
+        .iter()
+        .map(|p| Point3::new(p.x, p.y, p.z + 1.0))
+        .collect();
+    // A turn about the optical axis keeps every object in front.
+    let turn = Rotation3::from_euler_angles(0.0, 0.0, 0.7);
+    let robot: Vec<_> = human
+        .iter()
+        .map(|p| turn * p + Vector3::new(0.1, 0.0, 0.4))
+        .collect();
+    let lateral = Params::default().rigid.lateral_factor * median_spacing(&robot).unwrap();
+    let off = 6.0 * lateral;
+    let ray = robot[0].coords.normalize();
+    let across = ray.cross(&Vector3::z()).normalize();
+    let unique: Vec<Vec<f32>> = (0..10)
+        .map(|k| (0..10).map(|d| if d == k { 1.0 } else { 0.05 }).collect())
+        .collect();
+    let human_graph = graph(&human, 1..=10, &unique);
+    let answer = |shift: Vector3<f64>| {
+        let objects = robot
+            .iter()
+            .zip(&unique)
+            .enumerate()
+            .map(|(k, (p, f))| {
+                let p = if k == 0 { p + shift } else { *p };
+                let o = SceneObject::new(101 + k as u64, [p.x, p.y, p.z], f.clone());
+                // Per axis off / sqrt(3): `off` in all.
+                if k == 0 {
+                    o.with_sigma([off / 3f64.sqrt(); 3])
+                } else {
+                    o
+                }
+            })
+            .collect();
+        let robot_graph = SceneGraph::new(objects, None, &Limits::default()).unwrap();
+        let params = Params::default();
+        let problem = Problem::new(&human_graph, &robot_graph, params.beta).unwrap();
+        solve(Method::Rigid, &problem, &params).unwrap().assignment
+    };
+    let along = answer(ray * off);
+    assert!((0..10).all(|i| along[i] == Some(i)), "{along:?}");
+    let sideways = answer(across * off);
+    assert_eq!(sideways[0], None, "{sideways:?}");
+    assert!((1..10).all(|i| sideways[i] == Some(i)), "{sideways:?}");
+}

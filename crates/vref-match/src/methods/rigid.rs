@@ -30,16 +30,17 @@ pub struct RigidParams {
     /// together with the range a camera works at (centimetres on a table,
     /// decimetres on a floor), so one factor serves both.
     pub sigma_factor: f64,
-    /// Where the sensors state each object's position error, a pair's
-    /// residual scale is sigma combined with both stated errors (false:
-    /// sigma alone, as for dataset files, which state none).
+    /// Where the sensors state each object's position error, it is the
+    /// error along the object's ray (views in camera frames), or combined
+    /// with sigma in every direction (other views). False: ignored, as
+    /// for dataset files, which state none.
     pub stated_errors: bool,
-    /// Depth error of an RGB-D camera per metre of range squared: it lies
-    /// along the ray from the camera (the origin of a view's frame) and
-    /// grows with the square of the range, so a pair's residual is weighed
-    /// in a metric stretched along both objects' rays. 0 treats every
-    /// direction alike. Used only for views in front of their camera
-    /// (every z > 0) that state no position errors.
+    /// An RGB-D camera's depth error as a share of the range, where the
+    /// sensors state none: it lies along the ray from the camera (the
+    /// origin of a view's frame), so a pair's residual is weighed in a
+    /// metric stretched along both objects' rays, and errs far less in
+    /// every other direction (`lateral_factor`). Used for views in front of
+    /// their camera (every z > 0); 0 treats every direction alike (sigma).
     pub depth_error: f64,
     /// With the depth-error model: the scale of the error in every
     /// direction besides, as a multiple of the median nearest-neighbour
@@ -236,27 +237,44 @@ struct Rays {
 }
 
 impl Rays {
-    fn of(problem: &Problem, depth_error: f64, sigma: f64) -> Option<Self> {
+    /// The rays of views in front of their cameras (every z > 0): their
+    /// variance along the ray is the stated error where the sensors state
+    /// one (all of it: an RGB-D camera's depth error dominates and lies
+    /// along the ray), else `depth_error` times the range, squared. `None`
+    /// for other views or when neither applies.
+    fn of(problem: &Problem, rp: &RigidParams, lateral_sigma: f64) -> Option<Self> {
         let in_front = |ps: &[Point3<f64>]| ps.iter().all(|p| p.z > 0.0);
-        if !(depth_error > 0.0
-            && in_front(&problem.human_positions)
-            && in_front(&problem.robot_positions))
-        {
+        if !(in_front(&problem.human_positions) && in_front(&problem.robot_positions)) {
             return None;
         }
-        let ray = |p: &Point3<f64>| {
-            let r = p.coords.norm();
-            let s = depth_error * r;
-            (p.coords / r, s * s)
+        let stated = rp.stated_errors && has_stated_errors(problem);
+        if !(stated || rp.depth_error > 0.0) {
+            return None;
+        }
+        let rays = |points: &[Point3<f64>], variances: &[f64]| -> Vec<_> {
+            points
+                .iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let range = p.coords.norm();
+                    let along = if stated {
+                        // The mean over the axes times three: the total.
+                        3.0 * variance(variances, k)
+                    } else {
+                        (rp.depth_error * range).powi(2)
+                    };
+                    (p.coords / range, along)
+                })
+                .collect()
         };
-        let human = problem.human_positions.iter().map(ray).collect();
-        let robot: Vec<_> = problem.robot_positions.iter().map(ray).collect();
+        let human = rays(&problem.human_positions, &problem.human_variances);
+        let robot = rays(&problem.robot_positions, &problem.robot_variances);
         let axis = |k: usize| robot.iter().map(|(u, _)| u[k]).collect();
         Some(Self {
             human,
             robot_u: [axis(0), axis(1), axis(2)],
             robot_var: robot.iter().map(|(_, v)| *v).collect(),
-            lateral: sigma * sigma,
+            lateral: lateral_sigma * lateral_sigma,
         })
     }
 
@@ -287,31 +305,30 @@ impl Rays {
 
 impl<'a> Costs<'a> {
     /// The costs of `problem` with residual scales from the robot view's
-    /// object `spacing`: the sensors' stated errors where they state any,
-    /// else the depth-error model where it applies, else one isotropic
+    /// object `spacing`: the ray model for views in camera frames (with the
+    /// sensors' stated errors, else `depth_error`), the stated errors
+    /// isotropically for other views that state any, else one isotropic
     /// sigma.
     fn new(problem: &'a Problem, log_g: &'a [f64], spacing: f64, rp: &RigidParams) -> Self {
         let axis = |k: usize| problem.robot_positions.iter().map(|p| p[k]).collect();
         let sigma = rp.sigma_factor * spacing;
         let sigma2 = sigma * sigma;
-        let stated = (rp.stated_errors && has_stated_errors(problem)).then(|| {
-            let (n, m) = (problem.n, problem.m);
-            let mut inv = Vec::with_capacity(n * m);
-            for i in 0..n {
-                for j in 0..m {
-                    let s2 = sigma2
-                        + variance(&problem.human_variances, i)
-                        + variance(&problem.robot_variances, j);
-                    inv.push(1.0 / (2.0 * s2));
+        let rays = Rays::of(problem, rp, rp.lateral_factor * spacing);
+        // Stated errors of views that are not in camera frames: isotropic.
+        let stated =
+            (rays.is_none() && rp.stated_errors && has_stated_errors(problem)).then(|| {
+                let (n, m) = (problem.n, problem.m);
+                let mut inv = Vec::with_capacity(n * m);
+                for i in 0..n {
+                    for j in 0..m {
+                        let s2 = sigma2
+                            + variance(&problem.human_variances, i)
+                            + variance(&problem.robot_variances, j);
+                        inv.push(1.0 / (2.0 * s2));
+                    }
                 }
-            }
-            inv
-        });
-        let rays = if stated.is_none() {
-            Rays::of(problem, rp.depth_error, rp.lateral_factor * spacing)
-        } else {
-            None
-        };
+                inv
+            });
         // The search's tolerances follow the typical pair's scale.
         let typical = if stated.is_some() {
             (sigma2 + median(&problem.human_variances) + median(&problem.robot_variances)).sqrt()
