@@ -44,7 +44,7 @@ fn main() -> anyhow::Result<()> {
     let params: Params = config.matching;
     let limits = Limits::default();
     println!(
-        "objects  method  accuracy  precision  ece    unmatched  with partner  residual p50/p90  0.4 x spacing"
+        "objects  method  accuracy  precision  ece    unmatched  with partner  residual p50/p90  0.4 x spacing  solve p50"
     );
     for &n in &args.objects {
         let (_, world) = vref_feed::synthetic_world(&config.feeds, (n > 0).then_some(n))
@@ -54,11 +54,14 @@ fn main() -> anyhow::Result<()> {
             let (mut accuracy, mut precision, mut unmatched, mut humans, mut partners) =
                 (0.0, 0.0, 0, 0, 0);
             let mut answers = Vec::new();
+            let mut solve_us = Vec::new();
             for k in 0..MOMENTS {
                 let t = 1_000.0 + k as f64 * 1.7;
                 let (human, robot) = views(&world, t, k, &limits)?;
                 let problem = Problem::new(&human, &robot, params.beta)?;
+                let start = std::time::Instant::now();
                 let solution = solve(method, &problem, &params)?;
+                solve_us.push(start.elapsed().as_secs_f64() * 1e6);
                 let ids: Vec<u64> = human.objects().iter().map(|o| o.id).collect();
                 let predicted: Vec<(u64, u64)> = solution
                     .assignment
@@ -85,7 +88,7 @@ fn main() -> anyhow::Result<()> {
             }
             let moments = MOMENTS as f64;
             println!(
-                "{n:7}  {:6}  {:8.3}  {:9.3}  {:5.3}  {:9.2}  {:12.2}  {:7.3} / {:.3} m  {:.3} m",
+                "{n:7}  {:6}  {:8.3}  {:9.3}  {:5.3}  {:9.2}  {:12.2}  {:7.3} / {:.3} m  {:.3} m  {:.0} us",
                 method.to_string(),
                 accuracy / moments,
                 precision / moments,
@@ -95,6 +98,7 @@ fn main() -> anyhow::Result<()> {
                 residuals.0,
                 residuals.1,
                 residuals.2,
+                quantile(&mut solve_us, 0.5),
             );
         }
     }
