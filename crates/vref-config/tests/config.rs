@@ -73,6 +73,14 @@ fn bad_values_are_errors_naming_the_parameter() {
         ("[ipc]\nmax_clients = 0\n", "max_clients"),
         ("[feeds]\nsnapshot_rate_hz = 0.0\n", "snapshot_rate_hz"),
         ("[feeds]\ngesture_rate_hz = -1.0\n", "gesture_rate_hz"),
+        (
+            "[matching.rigid]\ndepth_error = -0.1\n",
+            "rigid.depth_error",
+        ),
+        (
+            "[matching.rigid]\nlateral_factor = 0.0\n",
+            "rigid.lateral_factor",
+        ),
     ];
     for (text, name) in cases {
         let err = Config::parse(text, Path::new("x.toml")).unwrap_err();
