@@ -1,0 +1,337 @@
+//! The cost of a pair under a motion: appearance and the residual in units
+//! of its expected error (the depth-error ray model, stated errors, or one
+//! isotropic scale).
+
+use nalgebra::Point3;
+
+use super::RigidParams;
+use crate::Problem;
+use crate::rigid::RigidMotion;
+
+/// The per-pair costs of one motion (or of appearance alone).
+pub(super) struct Costs<'a> {
+    pub(super) problem: &'a Problem,
+    pub(super) log_g: &'a [f64],
+    inv_two_sigma2: f64,
+    /// Per pair, when the sensors state position errors: `1 / (2 s^2)`
+    /// with `s^2 = sigma^2 + var_i + var_j`. The residual is weighed in
+    /// units of its own expected error (a Mahalanobis gate, as trackers
+    /// gate detections), without the Gaussian's normalisation: with it, an
+    /// object far from the camera would cost more than "no partner" even
+    /// at its exact place (on the feeds' world of 64 objects it left 98% of
+    /// the objects unmatched).
+    pub(super) stated: Option<Vec<f64>>,
+    /// Robot positions by coordinate, so that a row of costs is one
+    /// vectorisable pass (the search computes thousands of rows).
+    robot_xyz: [Vec<f64>; 3],
+    pub(super) rays: Option<Rays>,
+    /// The residual scale of a typical pair.
+    pub(super) typical: f64,
+}
+
+/// Each object's ray from its camera and depth variance along it.
+pub(super) struct Rays {
+    /// Unit rays of the human objects (human frame) and their variances.
+    human: Vec<(nalgebra::Vector3<f64>, f64)>,
+    /// Robot rays by coordinate, and their variances.
+    robot_u: [Vec<f64>; 3],
+    robot_var: Vec<f64>,
+    /// Lateral variance (sigma squared).
+    pub(super) lateral: f64,
+}
+
+impl Rays {
+    /// The rays of views in front of their cameras (every z > 0): their
+    /// variance along the ray is the stated error where the sensors state
+    /// one (all of it: an RGB-D camera's depth error dominates and lies
+    /// along the ray), else `depth_error` times the range, squared. `None`
+    /// for other views or when neither applies.
+    fn of(problem: &Problem, rp: &RigidParams, lateral_sigma: f64) -> Option<Self> {
+        let in_front = |ps: &[Point3<f64>]| ps.iter().all(|p| p.z > 0.0);
+        if !(in_front(&problem.human_positions) && in_front(&problem.robot_positions)) {
+            return None;
+        }
+        let stated = rp.stated_errors && has_stated_errors(problem);
+        if !(stated || rp.depth_error > 0.0) {
+            return None;
+        }
+        let rays = |points: &[Point3<f64>], variances: &[f64]| -> Vec<_> {
+            points
+                .iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let range = p.coords.norm();
+                    let along = if stated {
+                        // The mean over the axes times three: the total.
+                        3.0 * variance(variances, k)
+                    } else {
+                        (rp.depth_error * range).powi(2)
+                    };
+                    (p.coords / range, along)
+                })
+                .collect()
+        };
+        let human = rays(&problem.human_positions, &problem.human_variances);
+        let robot = rays(&problem.robot_positions, &problem.robot_variances);
+        let axis = |k: usize| robot.iter().map(|(u, _)| u[k]).collect();
+        Some(Self {
+            human,
+            robot_u: [axis(0), axis(1), axis(2)],
+            robot_var: robot.iter().map(|(_, v)| *v).collect(),
+            lateral: lateral_sigma * lateral_sigma,
+        })
+    }
+
+    /// Half the squared Mahalanobis length of residual `r` of human object
+    /// `i` (ray `w` in the robot frame, `alpha` = h / (lateral + h)) against
+    /// robot object `j`: the covariance is `lateral I + h w w^T + c u u^T`,
+    /// inverted by Sherman-Morrison twice.
+    #[inline]
+    fn half_distance2(&self, r: [f64; 3], w: [f64; 3], alpha: f64, j: usize) -> f64 {
+        let u = [self.robot_u[0][j], self.robot_u[1][j], self.robot_u[2][j]];
+        half_mahalanobis2(r, w, alpha, u, self.robot_var[j], 1.0 / self.lateral)
+    }
+
+    /// [`Rays::half_distance2`] of human object `i`, at `moved`, against
+    /// every robot object (`xyz`: their positions by coordinate), into
+    /// `out`: one pass over slices of equal length, which the compiler
+    /// vectorises (the search computes thousands of rows).
+    fn row(
+        &self,
+        i: usize,
+        motion: &RigidMotion,
+        moved: &Point3<f64>,
+        xyz: &[Vec<f64>; 3],
+        out: &mut [f64],
+    ) {
+        let m = out.len();
+        let (w, alpha) = self.human_ray(i, &motion.rotation);
+        let inv = 1.0 / self.lateral;
+        let (xs, ys, zs) = (&xyz[0][..m], &xyz[1][..m], &xyz[2][..m]);
+        let (ux, uy, uz) = (
+            &self.robot_u[0][..m],
+            &self.robot_u[1][..m],
+            &self.robot_u[2][..m],
+        );
+        let var = &self.robot_var[..m];
+        for k in 0..m {
+            let r = [moved.x - xs[k], moved.y - ys[k], moved.z - zs[k]];
+            out[k] = half_mahalanobis2(r, w, alpha, [ux[k], uy[k], uz[k]], var[k], inv);
+        }
+    }
+
+    /// Human object `i`'s ray under `rotation` and its `alpha`.
+    fn human_ray(&self, i: usize, rotation: &nalgebra::Matrix3<f64>) -> ([f64; 3], f64) {
+        let (v, h) = self.human[i];
+        let w = rotation * v;
+        ([w.x, w.y, w.z], h / (self.lateral + h))
+    }
+}
+
+/// Half of `r^T C^-1 r` for `C = I / inv + h w w^T + c u u^T` (`alpha`
+/// = h / (1 / inv + h)), by Sherman-Morrison twice.
+#[inline(always)]
+fn half_mahalanobis2(r: [f64; 3], w: [f64; 3], alpha: f64, u: [f64; 3], c: f64, inv: f64) -> f64 {
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let (rr, wr, ur, wu) = (dot(r, r), dot(w, r), dot(u, r), dot(w, u));
+    let a = (rr - alpha * wr * wr) * inv;
+    let b = (ur - alpha * wu * wr) * inv;
+    let uu = (1.0 - alpha * wu * wu) * inv;
+    0.5 * (a - c * b * b / (1.0 + c * uu))
+}
+
+impl<'a> Costs<'a> {
+    /// The costs of `problem` with residual scales from the robot view's
+    /// object `spacing`: the ray model for views in camera frames (with the
+    /// sensors' stated errors, else `depth_error`), the stated errors
+    /// isotropically for other views that state any, else one isotropic
+    /// sigma.
+    pub(super) fn new(
+        problem: &'a Problem,
+        log_g: &'a [f64],
+        spacing: f64,
+        rp: &RigidParams,
+    ) -> Self {
+        let axis = |k: usize| problem.robot_positions.iter().map(|p| p[k]).collect();
+        let sigma = rp.sigma_factor * spacing;
+        let sigma2 = sigma * sigma;
+        let rays = Rays::of(problem, rp, rp.lateral_factor * spacing);
+        // Stated errors of views that are not in camera frames: isotropic.
+        let stated =
+            (rays.is_none() && rp.stated_errors && has_stated_errors(problem)).then(|| {
+                let (n, m) = (problem.n, problem.m);
+                let mut inv = Vec::with_capacity(n * m);
+                for i in 0..n {
+                    for j in 0..m {
+                        let s2 = sigma2
+                            + variance(&problem.human_variances, i)
+                            + variance(&problem.robot_variances, j);
+                        inv.push(1.0 / (2.0 * s2));
+                    }
+                }
+                inv
+            });
+        // The search's tolerances follow the typical pair's scale.
+        let typical = if stated.is_some() {
+            (sigma2 + median(&problem.human_variances) + median(&problem.robot_variances)).sqrt()
+        } else if let Some(rays) = &rays {
+            let human: Vec<f64> = rays.human.iter().map(|(_, h)| *h).collect();
+            (rays.lateral + median(&human) + median(&rays.robot_var)).sqrt()
+        } else {
+            sigma
+        };
+        Self {
+            problem,
+            log_g,
+            inv_two_sigma2: 1.0 / (2.0 * sigma2),
+            stated,
+            robot_xyz: [axis(0), axis(1), axis(2)],
+            rays,
+            typical,
+        }
+    }
+
+    /// Costs of human object `i`, moved to `moved`, against every robot
+    /// object, into `out` (length m).
+    pub(super) fn row(&self, i: usize, motion: &RigidMotion, out: &mut [f64]) {
+        let m = self.problem.m;
+        let moved = &motion.apply(&self.problem.human_positions[i]);
+        let log_g = &self.log_g[i * m..(i + 1) * m];
+        let [xs, ys, zs] = &self.robot_xyz;
+        if let Some(rays) = &self.rays {
+            rays.row(i, motion, moved, &self.robot_xyz, out);
+            for (o, g) in out.iter_mut().zip(log_g) {
+                *o -= g;
+            }
+            return;
+        }
+        if let Some(inv) = &self.stated {
+            let inv = &inv[i * m..(i + 1) * m];
+            for (k, o) in out.iter_mut().enumerate() {
+                let (dx, dy, dz) = (moved.x - xs[k], moved.y - ys[k], moved.z - zs[k]);
+                *o = (dx * dx + dy * dy + dz * dz) * inv[k] - log_g[k];
+            }
+            return;
+        }
+        let inv = self.inv_two_sigma2;
+        for ((((o, &g), &x), &y), &z) in out.iter_mut().zip(log_g).zip(xs).zip(ys).zip(zs) {
+            let (dx, dy, dz) = (moved.x - x, moved.y - y, moved.z - z);
+            *o = (dx * dx + dy * dy + dz * dz) * inv - g;
+        }
+    }
+
+    fn pair(
+        &self,
+        motion: Option<&RigidMotion>,
+        moved: Option<&Point3<f64>>,
+        i: usize,
+        j: usize,
+    ) -> f64 {
+        let m = self.problem.m;
+        let appearance = -self.log_g[i * m + j];
+        match (motion, moved) {
+            (Some(t), Some(p)) => {
+                let d = p - self.problem.robot_positions[j];
+                if let Some(rays) = &self.rays {
+                    let (w, alpha) = rays.human_ray(i, &t.rotation);
+                    return appearance + rays.half_distance2([d.x, d.y, d.z], w, alpha, j);
+                }
+                let r2 = d.norm_squared();
+                let inv = self
+                    .stated
+                    .as_ref()
+                    .map_or(self.inv_two_sigma2, |inv| inv[i * m + j]);
+                appearance + r2 * inv
+            }
+            _ => appearance,
+        }
+    }
+
+    /// Row-major `n x m` costs under `motion`.
+    pub(super) fn matrix(&self, motion: Option<&RigidMotion>) -> Vec<f64> {
+        let (n, m) = (self.problem.n, self.problem.m);
+        let mut out = Vec::with_capacity(n * m);
+        for i in 0..n {
+            let moved = motion.map(|t| t.apply(&self.problem.human_positions[i]));
+            for j in 0..m {
+                out.push(self.pair(motion, moved.as_ref(), i, j));
+            }
+        }
+        out
+    }
+}
+
+/// Whether either view states a position error for some object.
+fn has_stated_errors(problem: &Problem) -> bool {
+    problem
+        .human_variances
+        .iter()
+        .chain(&problem.robot_variances)
+        .any(|&v| v > 0.0)
+}
+
+/// Entry `k` of a per-object list that may be empty (nothing stated).
+fn variance(list: &[f64], k: usize) -> f64 {
+    list.get(k).copied().unwrap_or(0.0)
+}
+
+fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted.get(sorted.len() / 2).copied().unwrap_or(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use nalgebra::{Matrix3, Vector3};
+
+    use super::Rays;
+    use crate::methods::rigid::search::SplitMix;
+
+    /// The Sherman-Morrison form against the covariance inverted outright.
+    #[test]
+    fn ray_distance_is_the_mahalanobis_distance_of_the_ray_covariance() {
+        let mut rng = SplitMix(7);
+        let mut unit = || (rng.next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        for _ in 0..200 {
+            let mut vector = || Vector3::new(unit(), unit(), unit());
+            let (r, w, u) = (vector(), vector().normalize(), vector().normalize());
+            let (lateral, h, c) = (0.01 + unit().abs(), 4.0 * unit().abs(), 4.0 * unit().abs());
+            let rays = Rays {
+                human: vec![(w, h)],
+                robot_u: [vec![u.x], vec![u.y], vec![u.z]],
+                robot_var: vec![c],
+                lateral,
+            };
+            let covariance =
+                Matrix3::identity() * lateral + w * w.transpose() * h + u * u.transpose() * c;
+            let expected = 0.5 * (r.transpose() * covariance.try_inverse().unwrap() * r)[0];
+            let (w_moved, alpha) = rays.human_ray(0, &Matrix3::identity());
+            let got = rays.half_distance2([r.x, r.y, r.z], w_moved, alpha, 0);
+            assert!(
+                (got - expected).abs() <= 1e-9 * expected.max(1.0),
+                "{got} against {expected}"
+            );
+        }
+    }
+
+    /// An error along the ray costs what its variance says, one across it
+    /// only the lateral scale's: the model that tells look-alikes apart
+    /// where depth error is large.
+    #[test]
+    fn error_along_the_ray_costs_less_than_across_it() {
+        let rays = Rays {
+            human: vec![(Vector3::z(), 0.0)],
+            robot_u: [vec![0.0], vec![0.0], vec![1.0]],
+            robot_var: vec![3.0],
+            lateral: 1.0,
+        };
+        let (w, alpha) = rays.human_ray(0, &Matrix3::identity());
+        let along = rays.half_distance2([0.0, 0.0, 2.0], w, alpha, 0);
+        let across = rays.half_distance2([2.0, 0.0, 0.0], w, alpha, 0);
+        assert!((along - 0.5).abs() < 1e-12, "{along}");
+        assert!((across - 2.0).abs() < 1e-12, "{across}");
+    }
+}

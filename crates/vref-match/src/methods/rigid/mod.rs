@@ -1,0 +1,192 @@
+//! `rigid`: vref's own method. Both views are rigid snapshots of one 3D
+//! scene, so a single proper rotation and translation maps the human
+//! view onto the robot's. The method finds it by RANSAC over candidate
+//! pairs seeded by appearance, verifies every pair against it, and assigns
+//! with a cost for leaving an object without a partner, so that objects
+//! one camera alone sees stay unmatched. Its confidence is a calibrated
+//! probability that the row's answer (a partner, or none) is right.
+
+mod costs;
+mod params;
+mod search;
+mod side;
+
+use crate::rigid::{RigidMotion, median_spacing};
+use crate::{Params, Problem, Solution, hungarian_max};
+
+use costs::Costs;
+pub use params::RigidParams;
+use search::search;
+
+/// Score of a column a row must never take in the padded assignment.
+const FORBIDDEN: f64 = -1e12;
+
+pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
+    let rp = &params.rigid;
+    let (n, m) = (problem.n, problem.m);
+    let spacing = median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
+    let log_g = appearance_log_likelihood(problem, rp.appearance_temperature);
+    let costs = Costs::new(problem, &log_g, spacing, rp);
+    let found = search(&costs, costs.typical, rp);
+    let mut motion = found.as_ref().map(|f| f.motion);
+    let mut cost = costs.matrix(motion.as_ref());
+    let mut assignment = assign(&cost, n, m, rp.unmatched_cost);
+    let mut iterations = 0;
+    let mut converged = motion.is_none();
+    if motion.is_some() {
+        for _ in 0..rp.refinements {
+            iterations += 1;
+            let Some(refit) = fit_assigned(problem, &assignment) else {
+                break;
+            };
+            motion = Some(refit);
+            cost = costs.matrix(motion.as_ref());
+            let next = assign(&cost, n, m, rp.unmatched_cost);
+            let same = next == assignment;
+            assignment = next;
+            if same {
+                converged = true;
+                break;
+            }
+        }
+    }
+    let (soft, unmatched) = row_shares(&cost, n, m, rp.unmatched_cost);
+
+    // The rival motions: each is weighed against the best by its score,
+    // and a row's answer is only as sure as the motions that give it.
+    let mut weights = Vec::new();
+    let mut rivals = Vec::new();
+    if let Some(f) = &found {
+        for &(score, alt) in &f.alternatives {
+            let w = ((score - f.score) / rp.motion_temperature).exp();
+            if w > 1e-9 {
+                weights.push(w);
+                rivals.push(assign(&costs.matrix(Some(&alt)), n, m, rp.unmatched_cost));
+            }
+        }
+    }
+    let total = 1.0 + weights.iter().sum::<f64>();
+    let p_best = 1.0 / total;
+    let mut confidence = Vec::with_capacity(n);
+    // The best of the partners abstention takes back, in case it takes
+    // them all: (raw share, row, partner).
+    let mut withdrawn: Option<(f64, usize, usize)> = None;
+    let disputed = p_best < rp.abstain_motion;
+    for i in 0..n {
+        let against: f64 = rivals
+            .iter()
+            .zip(&weights)
+            .filter(|(alt, _)| alt[i] != assignment[i])
+            .map(|(_, w)| w)
+            .sum();
+        let agrees = against == 0.0;
+        let motion_share = 1.0 - against / total;
+        let mut raw = motion_share
+            * match assignment[i] {
+                Some(j) => soft[i * m + j],
+                None => unmatched[i],
+            };
+        // Abstaining: a partner the runner-up motion disputes and that is
+        // this unsure is not given (precision); the object is answered "no
+        // partner" with that answer's share. Decided on the raw share, so
+        // that the calibration is fitted to the answers as finally given.
+        if let Some(j) = assignment[i]
+            && disputed
+            && !agrees
+            && raw < rp.abstain_share
+        {
+            if withdrawn.is_none_or(|(best, _, _)| raw > best) {
+                withdrawn = Some((raw, i, j));
+            }
+            assignment[i] = None;
+            raw = unmatched[i];
+        }
+        confidence.push(raw);
+    }
+    if rp.never_empty
+        && assignment.iter().all(Option::is_none)
+        && let Some((raw, i, j)) = withdrawn
+    {
+        assignment[i] = Some(j);
+        confidence[i] = raw;
+    }
+    for (c, a) in confidence.iter_mut().zip(&assignment) {
+        *c = rp.calibration.probability(*c, a.is_none());
+    }
+    Solution {
+        soft,
+        assignment,
+        confidence,
+        iterations,
+        converged,
+    }
+}
+
+/// `(a - max of the row) / temperature`: the log of an appearance
+/// likelihood relative to the row's best; all 0 without features.
+fn appearance_log_likelihood(problem: &Problem, temperature: f64) -> Vec<f64> {
+    let m = problem.m;
+    let mut out = Vec::with_capacity(problem.len());
+    for row in problem.appearance.chunks(m) {
+        let best = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        out.extend(row.iter().map(|&a| (a - best) / temperature));
+    }
+    out
+}
+
+/// The motion re-fitted to the assigned pairs; `None` below three pairs.
+fn fit_assigned(problem: &Problem, assignment: &[Option<usize>]) -> Option<RigidMotion> {
+    let (from, to): (Vec<_>, Vec<_>) = assignment
+        .iter()
+        .enumerate()
+        .filter_map(|(i, a)| a.map(|j| (problem.human_positions[i], problem.robot_positions[j])))
+        .unzip();
+    if from.len() < 3 {
+        return None;
+    }
+    RigidMotion::fit(&from, &to, &vec![1.0; from.len()])
+}
+
+/// Minimum-cost assignment in which every human object may instead stay
+/// unmatched at cost `unmatched`: the robot side is padded with one
+/// private "no partner" column per row.
+fn assign(cost: &[f64], n: usize, m: usize, unmatched: f64) -> Vec<Option<usize>> {
+    let width = m + n;
+    let mut scores = vec![FORBIDDEN; n * width];
+    for i in 0..n {
+        for j in 0..m {
+            scores[i * width + j] = -cost[i * m + j];
+        }
+        scores[i * width + m + i] = -unmatched;
+    }
+    match hungarian_max(&scores, n, width) {
+        Ok(h) => h
+            .row_to_col
+            .into_iter()
+            .map(|a| a.filter(|&j| j < m))
+            .collect(),
+        // Only non-finite costs fail, which the costs above never are
+        // for finite inputs; no partner is the safe answer.
+        Err(_) => vec![None; n],
+    }
+}
+
+/// Each row's softmax over its robot objects and "no partner"
+/// (`exp(-cost)`, normalised): the soft answer, and the share of "no
+/// partner" per row.
+fn row_shares(cost: &[f64], n: usize, m: usize, unmatched: f64) -> (Vec<f64>, Vec<f64>) {
+    let mut soft = vec![0.0; n * m];
+    let mut none = vec![0.0; n];
+    for i in 0..n {
+        let row = &cost[i * m..(i + 1) * m];
+        let low = row.iter().copied().fold(unmatched, f64::min);
+        let mut z = (low - unmatched).exp();
+        for (s, &c) in soft[i * m..(i + 1) * m].iter_mut().zip(row) {
+            *s = (low - c).exp();
+            z += *s;
+        }
+        soft[i * m..(i + 1) * m].iter_mut().for_each(|s| *s /= z);
+        none[i] = (low - unmatched).exp() / z;
+    }
+    (soft, none)
+}

@@ -1,0 +1,186 @@
+//! The constants of `rigid`, with their defaults and checks.
+
+use serde::{Deserialize, Serialize};
+
+use crate::MatchError;
+use crate::calibration::Calibration;
+
+/// Constants of the `rigid` method.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RigidParams {
+    /// Appearance enters as `exp((a - best a of the row) / temperature)`:
+    /// a likelihood relative to the row's most similar object.
+    pub appearance_temperature: f64,
+    /// Robot objects per human object that hypotheses are drawn from,
+    /// the most similar in appearance first.
+    pub candidates: usize,
+    /// Distance-consistent hypotheses scored.
+    pub hypotheses: usize,
+    /// Residual scale as a multiple of the robot view's median distance
+    /// between nearest neighbours: position error and object spacing grow
+    /// together with the range a camera works at (centimetres on a table,
+    /// decimetres on a floor), so one factor serves both.
+    pub sigma_factor: f64,
+    /// Where the sensors state each object's position error, it is the
+    /// error along the object's ray (views in camera frames), or combined
+    /// with sigma in every direction (other views). False: ignored, as
+    /// for dataset files, which state none.
+    pub stated_errors: bool,
+    /// An RGB-D camera's depth error as a share of the range, where the
+    /// sensors state none: it lies along the ray from the camera (the
+    /// origin of a view's frame), so a pair's residual is weighed in a
+    /// metric stretched along both objects' rays, and errs far less in
+    /// every other direction (`lateral_factor`). Used for views in front of
+    /// their camera (every z > 0); 0 treats every direction alike (sigma).
+    pub depth_error: f64,
+    /// With the depth-error model: the scale of the error in every
+    /// direction besides, as a multiple of the median nearest-neighbour
+    /// distance (smaller than `sigma_factor`, which must cover the depth
+    /// error too).
+    pub lateral_factor: f64,
+
+    /// Cost of leaving a human object without a partner, in the units of
+    /// the pair cost `-ln(appearance likelihood) + r^2 / (2 sigma^2)`.
+    pub unmatched_cost: f64,
+    /// The search ends early at a hypothesis whose score reaches this
+    /// share of the largest possible (every object of the smaller view
+    /// explained with zero cost).
+    pub decisive_share: f64,
+    /// Hypotheses scored before the search may end early, for a scene of
+    /// 8 x 8 objects; scaled by 64 / (n m) for others. In a scene of a few
+    /// objects a wrong motion can explain nearly everything too (and its
+    /// hypotheses are cheap); in a large one that is ever less likely (and
+    /// each hypothesis costs n m).
+    pub decisive_after: usize,
+    /// Samples with short edges are drawn too whenever the search with
+    /// long edges found no decisive motion (false: only when it found too
+    /// few motions to keep).
+    pub short_edges_always: bool,
+    /// Best hypotheses of the search that are locally optimised (re-fitted
+    /// to the pairs they explain) before the best is chosen.
+    pub local_optimisations: usize,
+    /// Re-fits of the motion on the assigned pairs after the search.
+    pub refinements: usize,
+    /// Score difference (in nats: scores are log-likelihood gains) that
+    /// makes the best motion e times likelier than the runner-up.
+    pub motion_temperature: f64,
+    /// Motions that pair objects otherwise weighed against the best (1:
+    /// the runner-up alone).
+    pub rivals: usize,
+    /// A partner that the runner-up motion pairs otherwise and whose raw
+    /// share (its row's softmax share times the best motion's probability)
+    /// is below this is not given: the object is answered "no partner".
+    /// 0 never abstains.
+    pub abstain_share: f64,
+    /// Abstaining needs a real dispute: the best motion's probability
+    /// against the runner-up must be below this (1 abstains whenever the
+    /// runner-up pairs the row otherwise). A row share lowered by look-alike
+    /// neighbours alone is not a dispute between motions.
+    pub abstain_motion: f64,
+    /// When abstention would leave a scene without any partner, the most
+    /// confident disputed partner is given all the same: an empty answer is
+    /// precision 0 and tells the robot nothing.
+    pub never_empty: bool,
+    /// Refuse motions that put the two cameras on opposite sides of the
+    /// plane the objects stand on (see `Side`).
+    pub same_side: bool,
+    /// Seed of the hypothesis sampler (answers are deterministic).
+    pub seed: u64,
+    /// Raw row share and fit quality to probability.
+    pub calibration: Calibration,
+}
+
+impl Default for RigidParams {
+    fn default() -> Self {
+        Self {
+            appearance_temperature: 0.1,
+            candidates: 6,
+            hypotheses: 200,
+            sigma_factor: 0.4,
+            stated_errors: true,
+            depth_error: 0.065,
+            lateral_factor: 0.2,
+            unmatched_cost: 4.5,
+            decisive_share: 0.8,
+            decisive_after: 100,
+            short_edges_always: true,
+            local_optimisations: 8,
+            refinements: 3,
+            motion_temperature: 1.0,
+            rivals: 7,
+            abstain_share: 0.65,
+            abstain_motion: 0.95,
+            never_empty: true,
+            same_side: true,
+            seed: 0x5eed,
+            calibration: Calibration::default(),
+        }
+    }
+}
+
+impl RigidParams {
+    pub(crate) fn validate(&self) -> Result<(), MatchError> {
+        for (name, value) in [
+            ("rigid.appearance_temperature", self.appearance_temperature),
+            ("rigid.sigma_factor", self.sigma_factor),
+            ("rigid.unmatched_cost", self.unmatched_cost),
+            ("rigid.decisive_share", self.decisive_share),
+            ("rigid.motion_temperature", self.motion_temperature),
+            ("rigid.lateral_factor", self.lateral_factor),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(MatchError::BadParameter {
+                    name,
+                    value,
+                    expected: "positive and finite",
+                });
+            }
+        }
+        for (name, count) in [
+            ("rigid.candidates", self.candidates),
+            ("rigid.hypotheses", self.hypotheses),
+        ] {
+            if count == 0 {
+                return Err(MatchError::BadParameter {
+                    name,
+                    value: 0.0,
+                    expected: "at least 1",
+                });
+            }
+        }
+        if !(self.depth_error.is_finite() && self.depth_error >= 0.0) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.depth_error",
+                value: self.depth_error,
+                expected: "zero or positive and finite",
+            });
+        }
+        if !(0.0..=1.0).contains(&self.abstain_motion) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.abstain_motion",
+                value: self.abstain_motion,
+                expected: "in [0, 1]",
+            });
+        }
+        if !(0.0..=1.0).contains(&self.abstain_share) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.abstain_share",
+                value: self.abstain_share,
+                expected: "in [0, 1]",
+            });
+        }
+        let c = &self.calibration;
+        if ![c.bias, c.slope, c.no_partner_shift]
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return Err(MatchError::BadParameter {
+                name: "rigid.calibration",
+                value: f64::NAN,
+                expected: "finite constants",
+            });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,437 @@
+//! RANSAC over candidate pairs for the motion between the two views, and
+//! its rivals.
+
+use nalgebra::Point3;
+
+use super::RigidParams;
+use super::costs::Costs;
+use super::side::Side;
+use crate::Problem;
+use crate::rigid::RigidMotion;
+
+/// Minimal samples tried per hypothesis scored; most fail the cheap
+/// distance check, so this bounds the search when nothing is consistent.
+const ATTEMPTS_PER_HYPOTHESIS: usize = 50;
+/// Robot objects this much below a row's best appearance log-likelihood
+/// (a tenth of its likelihood) are still candidates.
+const CANDIDATE_LOG_GAP: f64 = std::f64::consts::LN_10;
+/// Re-fits per locally optimised hypothesis (each must raise its score).
+const LOCAL_REFITS: usize = 3;
+/// The search's shortcut round scores at most this many times the
+/// hypotheses a decisive motion waits for (all `hypotheses` up to scenes
+/// of 16 x 16 objects).
+const SHORTCUT_PATIENCE: usize = 8;
+
+/// The best-scoring proper motion among hypotheses fitted to three
+/// distance-consistent candidate pairs; `None` when either view has fewer
+/// than three objects or no sample is consistent.
+pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
+    let problem = costs.problem;
+    let (n, m) = (problem.n, problem.m);
+    if n < 3 || m < 3 {
+        return None;
+    }
+    let hp = &problem.human_positions;
+    let rpos = &problem.robot_positions;
+    // The samples are drawn over objects in an order of their positions,
+    // not of the lists they came in, so that relabelling a view draws the
+    // same hypotheses and gives the same answer.
+    let human_order = position_order(hp);
+    let robot_rank = ranks(&position_order(rpos));
+    let mut candidates = candidate_columns(costs.log_g, n, m, rp.candidates);
+    for row in &mut candidates {
+        row.sort_by_key(|&col| robot_rank[col]);
+    }
+    // Distances may disagree by the noise of two positions on each side.
+    let tolerance = 3.0 * sigma;
+    let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
+    let mut top: Vec<(f64, RigidMotion)> = Vec::new();
+    let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
+    let mut consistent: Vec<usize> = Vec::with_capacity(m);
+    let mut scratch = Scratch::default();
+    let side = Side::of(rpos);
+    let probes = probe_points(hp);
+    let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, 2.0 * sigma);
+    // A motion that explains nearly every object nearly perfectly leaves
+    // nothing for further hypotheses to find.
+    let decisive = rp.decisive_share * rp.unmatched_cost * n.min(m) as f64;
+    let decisive_after = rp.decisive_after.saturating_mul(64).div_ceil(n * m);
+    // Sample edges shorter than the tolerance give poorly determined
+    // rotations and are avoided, unless a sparse scene has too few samples
+    // without them to fill the kept few.
+    let keep = rp.local_optimisations.max(1);
+    let mut settled = false;
+    // Rounds of (distance tolerance, shortest edge, shortcut). Under the
+    // depth-error model the tolerance must admit errors along the rays that
+    // are large against the spacing, which leaves guided sampling little to
+    // go on. A first round at the lateral scale alone settles scenes whose
+    // positions are better than the model assumes at once; it is a
+    // shortcut only: unless it settles the scene it is forgotten (its own
+    // generator, its motions dropped), so it never changes the answer to a
+    // scene it does not settle.
+    let mut rounds = Vec::with_capacity(3);
+    if let Some(rays) = &costs.rays {
+        let precise = 3.0 * rays.lateral.sqrt();
+        rounds.push((precise, precise, true));
+    }
+    rounds.extend([(tolerance, tolerance, false), (tolerance, 0.0, false)]);
+    let mut shortcut_rng = SplitMix(!rng.0);
+    for (tolerance, min_edge, shortcut) in rounds {
+        // Without a decisive motion the short edges get their turn too: in
+        // a scene of a few objects the right triangle may have no edge
+        // longer than the tolerance, while wrong ones fill the kept few.
+        let short = min_edge == 0.0;
+        if settled || (short && !rp.short_edges_always && top.len() >= keep) {
+            break;
+        }
+        let rng = if shortcut {
+            &mut shortcut_rng
+        } else {
+            &mut rng
+        };
+        let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
+            let dh = (hp[i] - hp[j]).norm();
+            let dr = (rpos[a] - rpos[b]).norm();
+            i != j && a != b && dh > min_edge && (dh - dr).abs() <= tolerance
+        };
+        let mut scored = 0;
+        let mut attempts = 0;
+
+        // The shortcut is worth a few of the hypotheses a decisive motion
+        // must wait for: in a large scene that it does not settle at once
+        // (crowded views from afar) it would be wasted work.
+        let budget = if shortcut {
+            rp.hypotheses
+                .min(decisive_after.saturating_mul(SHORTCUT_PATIENCE))
+        } else {
+            rp.hypotheses
+        };
+        while scored < budget && attempts < max_attempts {
+            attempts += 1;
+            // Guided sampling: the second and third pairs are drawn only among
+            // the candidates whose distances agree with the pairs drawn before,
+            // so that a right first pair is likely to grow into a right sample
+            // even when a row has many look-alike candidates.
+            let i = human_order[rng.below(n)];
+            let first = (i, candidates[i][rng.below(candidates[i].len())]);
+            let mut s = [first; 3];
+            let mut complete = true;
+            for k in 1..3 {
+                let row = human_order[rng.below(n)];
+                consistent.clear();
+                consistent.extend(
+                    candidates[row]
+                        .iter()
+                        .copied()
+                        .filter(|&col| s[..k].iter().all(|&p| fits(p, (row, col)))),
+                );
+                if consistent.is_empty() {
+                    complete = false;
+                    break;
+                }
+                s[k] = (row, consistent[rng.below(consistent.len())]);
+            }
+            if !complete {
+                continue;
+            }
+            let from = s.map(|(i, _)| hp[i]);
+            let to = s.map(|(_, j)| rpos[j]);
+            let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
+                continue;
+            };
+            if rp.same_side && !side.allows(&motion) {
+                continue;
+            }
+            scored += 1;
+            // Only a hypothesis that can enter the kept few is scored fully.
+            let keep = rp.local_optimisations.max(1);
+            let beat = if top.len() < keep {
+                f64::NEG_INFINITY
+            } else {
+                top.last().map_or(f64::NEG_INFINITY, |(s, _)| *s)
+            };
+            if let Some((score, _)) = greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch)
+            {
+                keep_best(&mut top, keep, score, motion, same);
+                if score >= decisive && scored >= decisive_after {
+                    settled = true;
+                    break;
+                }
+            }
+        }
+        if shortcut && !settled {
+            top.clear();
+        }
+    }
+    // Local optimisation: a motion fitted to three noisy pairs is only
+    // roughly right, so the best few are re-fitted to the pairs they
+    // explain before they are compared.
+    let mut refined: Vec<(f64, RigidMotion)> = Vec::with_capacity(top.len());
+    for (mut score, mut motion) in top {
+        for _ in 0..LOCAL_REFITS {
+            let Some((_, pairs)) = greedy(
+                costs,
+                &motion,
+                rp.unmatched_cost,
+                f64::NEG_INFINITY,
+                &mut scratch,
+            ) else {
+                break;
+            };
+            let Some(refit) = fit_pairs(problem, &pairs) else {
+                break;
+            };
+            let Some((refit_score, _)) =
+                greedy(costs, &refit, rp.unmatched_cost, score, &mut scratch)
+            else {
+                break;
+            };
+            if refit_score <= score {
+                break;
+            }
+            (score, motion) = (refit_score, refit);
+        }
+        refined.push((score, motion));
+    }
+    refined.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let (score, motion) = *refined.first()?;
+    // The runner-up must pair objects otherwise: a motion that the local
+    // optimisation left short of the same pairs' fit is the best motion
+    // again, only fitted worse, and would dispute nothing real.
+    let pairs_of = |m: &RigidMotion, scratch: &mut Scratch| {
+        greedy(costs, m, rp.unmatched_cost, f64::NEG_INFINITY, scratch).map(|(_, mut p)| {
+            p.sort_unstable();
+            p
+        })
+    };
+    let mut seen = vec![pairs_of(&motion, &mut scratch)];
+    let mut alternatives = Vec::new();
+    for &(other_score, other) in refined.iter().skip(1) {
+        if alternatives.len() >= rp.rivals {
+            break;
+        }
+        if same(&motion, &other) {
+            continue;
+        }
+        let pairs = pairs_of(&other, &mut scratch);
+        if !seen.contains(&pairs) {
+            seen.push(pairs);
+            alternatives.push((other_score, other));
+        }
+    }
+    Some(Found {
+        motion,
+        score,
+        alternatives,
+    })
+}
+
+/// The search's answer: the best motion, its score, and the best few
+/// motions that pair objects otherwise (each differently from the others),
+/// with their scores, best first.
+pub(super) struct Found {
+    pub(super) motion: RigidMotion,
+    pub(super) score: f64,
+    pub(super) alternatives: Vec<(f64, RigidMotion)>,
+}
+
+/// Inserts `(score, motion)` into `top`, which holds the `k` best
+/// distinct motions so far, best first: a motion that places the probe
+/// points like one already held replaces it only when it scores higher.
+fn keep_best(
+    top: &mut Vec<(f64, RigidMotion)>,
+    k: usize,
+    score: f64,
+    motion: RigidMotion,
+    same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
+) {
+    if let Some(at) = top.iter().position(|(_, held)| same(held, &motion)) {
+        if top[at].0 >= score {
+            return;
+        }
+        top.remove(at);
+    }
+    let at = top.partition_point(|(s, _)| *s >= score);
+    if at < k {
+        top.insert(at, (score, motion));
+        top.truncate(k);
+    }
+}
+
+/// Whether two motions place every probe point within `tolerance` of
+/// each other (they name the same correspondences).
+fn same_motion(a: &RigidMotion, b: &RigidMotion, probes: &[Point3<f64>], tolerance: f64) -> bool {
+    probes
+        .iter()
+        .all(|p| (a.apply(p) - b.apply(p)).norm_squared() <= tolerance * tolerance)
+}
+
+/// How well `motion` explains the scene: each human object's best pair
+/// under it, taken greedily by gain over "no partner" with every robot
+/// object used once (a cheap stand-in for the assignment). Returns the
+/// total gain and the pairs taken, or `None` as soon as the total cannot
+/// reach `beat` (each row gains at most `unmatched`). Objects without a
+/// partner add nothing instead of dragging a right motion down.
+fn greedy(
+    costs: &Costs<'_>,
+    motion: &RigidMotion,
+    unmatched: f64,
+    beat: f64,
+    scratch: &mut Scratch,
+) -> Option<(f64, Vec<(usize, usize)>)> {
+    let problem = costs.problem;
+    let (n, m) = (problem.n, problem.m);
+    scratch.gains.clear();
+    scratch.row.resize(m, 0.0);
+    let mut bound = unmatched * n as f64;
+    for i in 0..n {
+        costs.row(i, motion, &mut scratch.row);
+        // The two best columns of the row, so that a row whose best is
+        // taken can still fall back to its second.
+        let mut first = (f64::INFINITY, usize::MAX);
+        let mut second = (f64::INFINITY, usize::MAX);
+        for (j, &c) in scratch.row.iter().enumerate() {
+            if c < second.0 {
+                if c < first.0 {
+                    second = first;
+                    first = (c, j);
+                } else {
+                    second = (c, j);
+                }
+            }
+        }
+        bound -= unmatched - (unmatched - first.0).max(0.0);
+        if bound < beat {
+            return None;
+        }
+        for (c, j) in [first, second] {
+            if c < unmatched && j != usize::MAX {
+                scratch.gains.push((unmatched - c, i, j));
+            }
+        }
+    }
+    scratch.gains.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    scratch.row_used.clear();
+    scratch.row_used.resize(n, false);
+    scratch.col_used.clear();
+    scratch.col_used.resize(m, false);
+    let mut total = 0.0;
+    let mut pairs = Vec::with_capacity(n.min(m));
+    for &(gain, i, j) in &scratch.gains {
+        if !scratch.row_used[i] && !scratch.col_used[j] {
+            scratch.row_used[i] = true;
+            scratch.col_used[j] = true;
+            total += gain;
+            pairs.push((i, j));
+        }
+    }
+    Some((total, pairs))
+}
+
+/// Buffers reused by every [`greedy`] call of one search.
+#[derive(Default)]
+struct Scratch {
+    row: Vec<f64>,
+    gains: Vec<(f64, usize, usize)>,
+    row_used: Vec<bool>,
+    col_used: Vec<bool>,
+}
+
+/// The motion fitted to `pairs` of (human, robot) objects; `None` below
+/// three pairs.
+fn fit_pairs(problem: &Problem, pairs: &[(usize, usize)]) -> Option<RigidMotion> {
+    if pairs.len() < 3 {
+        return None;
+    }
+    let from: Vec<_> = pairs
+        .iter()
+        .map(|&(i, _)| problem.human_positions[i])
+        .collect();
+    let to: Vec<_> = pairs
+        .iter()
+        .map(|&(_, j)| problem.robot_positions[j])
+        .collect();
+    RigidMotion::fit(&from, &to, &vec![1.0; pairs.len()])
+}
+
+/// For each human object, the robot objects that hypotheses may pair it
+/// with, most similar first: its `k` most similar, and every other whose
+/// appearance likelihood is within [`CANDIDATE_LOG_GAP`] of the best (all
+/// of them when appearance tells nothing, as without features).
+fn candidate_columns(log_g: &[f64], n: usize, m: usize, k: usize) -> Vec<Vec<usize>> {
+    (0..n)
+        .map(|i| {
+            let row = &log_g[i * m..(i + 1) * m];
+            let mut order: Vec<usize> = (0..m).collect();
+            order.sort_by(|&a, &b| row[b].total_cmp(&row[a]));
+            let keep = order
+                .iter()
+                .enumerate()
+                .take_while(|&(rank, &j)| rank < k || row[j] >= -CANDIDATE_LOG_GAP)
+                .count();
+            order.truncate(keep.max(1));
+            order
+        })
+        .collect()
+}
+
+/// Indices of `points` sorted by their coordinates, x first.
+fn position_order(points: &[Point3<f64>]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (p, q) = (&points[a], &points[b]);
+        p.x.total_cmp(&q.x)
+            .then(p.y.total_cmp(&q.y))
+            .then(p.z.total_cmp(&q.z))
+            .then(a.cmp(&b))
+    });
+    order
+}
+
+/// `rank[k]`: where index `k` stands in `order`.
+fn ranks(order: &[usize]) -> Vec<usize> {
+    let mut rank = vec![0; order.len()];
+    for (r, &k) in order.iter().enumerate() {
+        rank[k] = r;
+    }
+    rank
+}
+
+/// The human view's extreme points along each axis and its centroid:
+/// where two motions that pair objects differently disagree most.
+fn probe_points(points: &[Point3<f64>]) -> Vec<Point3<f64>> {
+    let mut probes = Vec::with_capacity(7);
+    if points.is_empty() {
+        return probes;
+    }
+    let centroid = points
+        .iter()
+        .fold(nalgebra::Vector3::zeros(), |c, p| c + p.coords)
+        / points.len() as f64;
+    probes.push(Point3::from(centroid));
+    for axis in 0..3 {
+        let by = |a: &&Point3<f64>, b: &&Point3<f64>| a[axis].total_cmp(&b[axis]);
+        if let (Some(lo), Some(hi)) = (points.iter().min_by(by), points.iter().max_by(by)) {
+            probes.push(*lo);
+            probes.push(*hi);
+        }
+    }
+    probes
+}
+
+/// A small deterministic generator (SplitMix64) for the sampler.
+pub(super) struct SplitMix(pub(super) u64);
+
+impl SplitMix {
+    pub(super) fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    fn below(&mut self, bound: usize) -> usize {
+        (self.next() % bound.max(1) as u64) as usize
+    }
+}

@@ -1,0 +1,62 @@
+//! Which side of the objects' plane the cameras stand on.
+
+use nalgebra::Point3;
+
+use crate::rigid::RigidMotion;
+
+/// Both cameras look at the objects from the same side of the surface
+/// they stand on (a table top, a floor). When the robot view's objects lie
+/// near a plane with the robot camera clearly off it, a motion that puts
+/// the human camera on the other side is a mirror of the scene through
+/// that plane, and is refused. Says nothing for scenes far from planar or
+/// cameras in their plane (image coordinates with z = 0).
+pub(super) struct Side {
+    plane: Option<(Point3<f64>, nalgebra::Vector3<f64>)>,
+}
+
+impl Side {
+    /// Smallest spread of the objects across the plane, as a share of the
+    /// next smallest, below which the scene counts as planar.
+    const FLATNESS: f64 = 0.25;
+
+    pub(super) fn of(points: &[Point3<f64>]) -> Self {
+        let none = Self { plane: None };
+        if points.len() < 3 {
+            return none;
+        }
+        let c = points
+            .iter()
+            .fold(nalgebra::Vector3::zeros(), |c, p| c + p.coords)
+            / points.len() as f64;
+        let cov = points.iter().fold(nalgebra::Matrix3::zeros(), |acc, p| {
+            let d = p.coords - c;
+            acc + d * d.transpose()
+        }) / points.len() as f64;
+        let eig = cov.symmetric_eigen();
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+        let (low, mid) = (eig.eigenvalues[order[0]], eig.eigenvalues[order[1]]);
+        if !(mid > 0.0 && low.max(0.0).sqrt() <= Self::FLATNESS * mid.sqrt()) {
+            return none;
+        }
+        let mut normal = eig.eigenvectors.column(order[0]).into_owned();
+        // Orient the normal towards the robot camera (the origin).
+        let camera = -normal.dot(&c);
+        if camera.abs() <= 3.0 * mid.sqrt() * Self::FLATNESS {
+            return none;
+        }
+        if camera < 0.0 {
+            normal = -normal;
+        }
+        Self {
+            plane: Some((Point3::from(c), normal)),
+        }
+    }
+
+    /// Whether `motion` keeps the human camera (its origin) on the robot
+    /// camera's side of the plane.
+    pub(super) fn allows(&self, motion: &RigidMotion) -> bool {
+        self.plane
+            .is_none_or(|(c, normal)| normal.dot(&(motion.apply(&Point3::origin()) - c)) > 0.0)
+    }
+}
