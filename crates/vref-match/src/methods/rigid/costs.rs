@@ -38,6 +38,9 @@ pub(super) struct Rays {
     robot_var: Vec<f64>,
     /// Lateral variance (sigma squared).
     pub(super) lateral: f64,
+    /// Whether the depth variances are `depth_error`'s assumption rather
+    /// than the sensors' statement.
+    pub(super) assumed: bool,
 }
 
 impl Rays {
@@ -79,6 +82,7 @@ impl Rays {
             robot_u: [axis(0), axis(1), axis(2)],
             robot_var: robot.iter().map(|(_, v)| *v).collect(),
             lateral: lateral_sigma * lateral_sigma,
+            assumed: !stated,
         })
     }
 
@@ -304,6 +308,7 @@ mod tests {
                 robot_u: [vec![u.x], vec![u.y], vec![u.z]],
                 robot_var: vec![c],
                 lateral,
+                assumed: true,
             };
             let covariance =
                 Matrix3::identity() * lateral + w * w.transpose() * h + u * u.transpose() * c;
@@ -327,6 +332,7 @@ mod tests {
             robot_u: [vec![0.0], vec![0.0], vec![1.0]],
             robot_var: vec![3.0],
             lateral: 1.0,
+            assumed: true,
         };
         let (w, alpha) = rays.human_ray(0, &Matrix3::identity());
         let along = rays.half_distance2([0.0, 0.0, 2.0], w, alpha, 0);

@@ -17,10 +17,6 @@ const ATTEMPTS_PER_HYPOTHESIS: usize = 50;
 const CANDIDATE_LOG_GAP: f64 = std::f64::consts::LN_10;
 /// Re-fits per locally optimised hypothesis (each must raise its score).
 const LOCAL_REFITS: usize = 3;
-/// The search's shortcut round scores at most this many times the
-/// hypotheses a decisive motion waits for (all `hypotheses` up to scenes
-/// of 16 x 16 objects).
-const SHORTCUT_PATIENCE: usize = 8;
 
 /// The best-scoring proper motion among hypotheses fitted to three
 /// distance-consistent candidate pairs; `None` when either view has fewer
@@ -64,13 +60,15 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
     // Rounds of (distance tolerance, shortest edge, shortcut). Under the
     // depth-error model the tolerance must admit errors along the rays that
     // are large against the spacing, which leaves guided sampling little to
-    // go on. A first round at the lateral scale alone settles scenes whose
-    // positions are better than the model assumes at once; it is a
-    // shortcut only: unless it settles the scene it is forgotten (its own
-    // generator, its motions dropped), so it never changes the answer to a
-    // scene it does not settle.
+    // go on. Where that error is assumed (`depth_error`: nothing stated), a
+    // first round at the lateral scale alone settles scenes whose positions
+    // are better than assumed at once; it is a shortcut only: unless it
+    // settles the scene it is forgotten (its own generator, its motions
+    // dropped), so it never changes the answer to a scene it does not
+    // settle. Errors the sensors state are taken at their word: no
+    // shortcut, whose search would be wasted on noisy scenes.
     let mut rounds = Vec::with_capacity(3);
-    if let Some(rays) = &costs.rays {
+    if let Some(rays) = costs.rays.as_ref().filter(|r| r.assumed) {
         let precise = 3.0 * rays.lateral.sqrt();
         rounds.push((precise, precise, true));
     }
@@ -97,43 +95,12 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
         let mut scored = 0;
         let mut attempts = 0;
 
-        // The shortcut is worth a few of the hypotheses a decisive motion
-        // must wait for: in a large scene that it does not settle at once
-        // (crowded views from afar) it would be wasted work.
-        let budget = if shortcut {
-            rp.hypotheses
-                .min(decisive_after.saturating_mul(SHORTCUT_PATIENCE))
-        } else {
-            rp.hypotheses
-        };
-        while scored < budget && attempts < max_attempts {
+        while scored < rp.hypotheses && attempts < max_attempts {
             attempts += 1;
-            // Guided sampling: the second and third pairs are drawn only among
-            // the candidates whose distances agree with the pairs drawn before,
-            // so that a right first pair is likely to grow into a right sample
-            // even when a row has many look-alike candidates.
-            let i = human_order[rng.below(n)];
-            let first = (i, candidates[i][rng.below(candidates[i].len())]);
-            let mut s = [first; 3];
-            let mut complete = true;
-            for k in 1..3 {
-                let row = human_order[rng.below(n)];
-                consistent.clear();
-                consistent.extend(
-                    candidates[row]
-                        .iter()
-                        .copied()
-                        .filter(|&col| s[..k].iter().all(|&p| fits(p, (row, col)))),
-                );
-                if consistent.is_empty() {
-                    complete = false;
-                    break;
-                }
-                s[k] = (row, consistent[rng.below(consistent.len())]);
-            }
-            if !complete {
+            let Some(s) = draw_sample(rng, &human_order, &candidates, &fits, &mut consistent)
+            else {
                 continue;
-            }
+            };
             let from = s.map(|(i, _)| hp[i]);
             let to = s.map(|(_, j)| rpos[j]);
             let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
@@ -163,9 +130,58 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
             top.clear();
         }
     }
-    // Local optimisation: a motion fitted to three noisy pairs is only
-    // roughly right, so the best few are re-fitted to the pairs they
-    // explain before they are compared.
+    let refined = optimise_locally(costs, rp, top, &mut scratch);
+    let &(score, motion) = refined.first()?;
+    let alternatives = rivals(costs, rp, &motion, &refined, same, &mut scratch);
+    Some(Found {
+        motion,
+        score,
+        alternatives,
+    })
+}
+
+/// One sample of three candidate pairs, by guided sampling: the second and
+/// third pairs are drawn only among the candidates whose distances agree
+/// with the pairs drawn before (`fits`), so that a right first pair is
+/// likely to grow into a right sample even when a row has many look-alike
+/// candidates. `None` when a row has no consistent candidate.
+fn draw_sample(
+    rng: &mut SplitMix,
+    human_order: &[usize],
+    candidates: &[Vec<usize>],
+    fits: &impl Fn((usize, usize), (usize, usize)) -> bool,
+    consistent: &mut Vec<usize>,
+) -> Option<[(usize, usize); 3]> {
+    let n = human_order.len();
+    let i = human_order[rng.below(n)];
+    let first = (i, candidates[i][rng.below(candidates[i].len())]);
+    let mut s = [first; 3];
+    for k in 1..3 {
+        let row = human_order[rng.below(n)];
+        consistent.clear();
+        consistent.extend(
+            candidates[row]
+                .iter()
+                .copied()
+                .filter(|&col| s[..k].iter().all(|&p| fits(p, (row, col)))),
+        );
+        if consistent.is_empty() {
+            return None;
+        }
+        s[k] = (row, consistent[rng.below(consistent.len())]);
+    }
+    Some(s)
+}
+
+/// Local optimisation: a motion fitted to three noisy pairs is only
+/// roughly right, so the best few are re-fitted to the pairs they explain
+/// before they are compared. Returns them best first.
+fn optimise_locally(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    top: Vec<(f64, RigidMotion)>,
+    scratch: &mut Scratch,
+) -> Vec<(f64, RigidMotion)> {
     let mut refined: Vec<(f64, RigidMotion)> = Vec::with_capacity(top.len());
     for (mut score, mut motion) in top {
         for _ in 0..LOCAL_REFITS {
@@ -174,15 +190,14 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
                 &motion,
                 rp.unmatched_cost,
                 f64::NEG_INFINITY,
-                &mut scratch,
+                scratch,
             ) else {
                 break;
             };
-            let Some(refit) = fit_pairs(problem, &pairs) else {
+            let Some(refit) = fit_pairs(costs.problem, &pairs) else {
                 break;
             };
-            let Some((refit_score, _)) =
-                greedy(costs, &refit, rp.unmatched_cost, score, &mut scratch)
+            let Some((refit_score, _)) = greedy(costs, &refit, rp.unmatched_cost, score, scratch)
             else {
                 break;
             };
@@ -194,36 +209,43 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
         refined.push((score, motion));
     }
     refined.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let (score, motion) = *refined.first()?;
-    // The runner-up must pair objects otherwise: a motion that the local
-    // optimisation left short of the same pairs' fit is the best motion
-    // again, only fitted worse, and would dispute nothing real.
+    refined
+}
+
+/// The best few of `refined` (after the best, `motion`) that pair objects
+/// otherwise than it and than each other, at most `rivals`: a motion that
+/// the local optimisation left short of the same pairs' fit is the best
+/// motion again, only fitted worse, and would dispute nothing real.
+fn rivals(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    motion: &RigidMotion,
+    refined: &[(f64, RigidMotion)],
+    same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
+    scratch: &mut Scratch,
+) -> Vec<(f64, RigidMotion)> {
     let pairs_of = |m: &RigidMotion, scratch: &mut Scratch| {
         greedy(costs, m, rp.unmatched_cost, f64::NEG_INFINITY, scratch).map(|(_, mut p)| {
             p.sort_unstable();
             p
         })
     };
-    let mut seen = vec![pairs_of(&motion, &mut scratch)];
+    let mut seen = vec![pairs_of(motion, scratch)];
     let mut alternatives = Vec::new();
     for &(other_score, other) in refined.iter().skip(1) {
         if alternatives.len() >= rp.rivals {
             break;
         }
-        if same(&motion, &other) {
+        if same(motion, &other) {
             continue;
         }
-        let pairs = pairs_of(&other, &mut scratch);
+        let pairs = pairs_of(&other, scratch);
         if !seen.contains(&pairs) {
             seen.push(pairs);
             alternatives.push((other_score, other));
         }
     }
-    Some(Found {
-        motion,
-        score,
-        alternatives,
-    })
+    alternatives
 }
 
 /// The search's answer: the best motion, its score, and the best few
