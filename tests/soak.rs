@@ -131,6 +131,12 @@ struct Load {
 
 const PHASES: usize = 5;
 
+/// A query unanswered this long counts as lost. Not a latency bound: this
+/// binary's 20 s soak runs beside this test on two cores, and a fresh
+/// clone's CI run once saw one wait over 500 ms (the old bound) while the
+/// gesture feed restarted.
+const LOST_AFTER: Duration = Duration::from_secs(2);
+
 impl Load {
     fn start(ipc: &IpcSettings) -> Self {
         let phase = Arc::new(AtomicUsize::new(0));
@@ -146,7 +152,7 @@ impl Load {
             while !s.load(Ordering::SeqCst) {
                 let at = p.load(Ordering::SeqCst);
                 id = id % 6 + 1;
-                match client.by_human_object(id, Duration::from_millis(500)) {
+                match client.by_human_object(id, LOST_AFTER) {
                     Ok(a) => {
                         if a.status() == AnswerStatus::Ok {
                             assert_eq!(a.robot_track_id, robot_id(id), "human {id}");
@@ -274,13 +280,19 @@ fn each_service_killed_during_a_soak_and_restarted_leaves_the_matcher_answering(
         AnswerStatus::Ok,
         "ok from the restarted matcher",
     );
+    // The new matcher's statistics once they count an `ok` answer: its
+    // first sample may be taken before it has answered anything.
     let after = eventually(
         Duration::from_secs(5),
-        "the new matcher's statistics",
-        || stats.latest().unwrap().filter(|s| s.pid != before.pid),
+        "the new matcher's statistics with an ok answer",
+        || {
+            stats
+                .latest()
+                .unwrap()
+                .filter(|s| s.pid != before.pid && s.answered(AnswerStatus::Ok) > 0)
+        },
     );
     assert!(after.started_ns > before.started_ns, "{after:?}");
-    assert!(after.answered(AnswerStatus::Ok) > 0, "{after:?}");
 
     load.wait_for_oks(5, "the load's ok from the restarted matcher");
 
