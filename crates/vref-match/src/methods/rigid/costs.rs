@@ -98,8 +98,9 @@ impl Rays {
 
     /// [`Rays::half_distance2`] of human object `i`, at `moved`, against
     /// every robot object (`xyz`: their positions by coordinate), into
-    /// `out`: one pass over slices of equal length, which the compiler
-    /// vectorises (the search computes thousands of rows).
+    /// `out`: one pass over slices cut to one length, so that the bounds
+    /// are checked once per row, not per pair (the search computes
+    /// thousands of rows).
     fn row(
         &self,
         i: usize,
