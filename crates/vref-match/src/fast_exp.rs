@@ -17,26 +17,8 @@ const ROUNDER: f64 = 6_755_399_441_055_744.0;
 #[inline(always)]
 pub fn exp_neg(t: f64) -> f64 {
     let (r, scale) = reduce(t);
-    // Taylor series of exp(r) for |r| <= ln2 / 2, Horner form, to r^13.
-    let mut p = 1.0 / 6_227_020_800.0;
-    for c in [
-        1.0 / 479_001_600.0,
-        1.0 / 39_916_800.0,
-        1.0 / 3_628_800.0,
-        1.0 / 362_880.0,
-        1.0 / 40_320.0,
-        1.0 / 5_040.0,
-        1.0 / 720.0,
-        1.0 / 120.0,
-        1.0 / 24.0,
-        1.0 / 6.0,
-        0.5,
-        1.0,
-        1.0,
-    ] {
-        p = p * r + c;
-    }
-    scaled(t, p, scale)
+    // Taylor series of exp(r) for |r| <= ln2 / 2, to r^13.
+    scaled(t, horner::<false>(&TAYLOR, r), scale)
 }
 
 /// `exp(-t)` for values to be stored as f32 (the exact tier's kernel
@@ -48,21 +30,36 @@ pub fn exp_neg(t: f64) -> f64 {
 #[inline(always)]
 pub fn exp_neg_single_with<const FMA: bool>(t: f64) -> f64 {
     let (r, scale) = reduce(t);
-    let mut p: f64 = 1.0 / 362_880.0;
-    for c in [
-        1.0 / 40_320.0,
-        1.0 / 5_040.0,
-        1.0 / 720.0,
-        1.0 / 120.0,
-        1.0 / 24.0,
-        1.0 / 6.0,
-        0.5,
-        1.0,
-        1.0,
-    ] {
-        p = if FMA { p.mul_add(r, c) } else { p * r + c };
-    }
-    scaled(t, p, scale)
+    scaled(t, horner::<FMA>(&TAYLOR[TAYLOR.len() - 10..], r), scale)
+}
+
+/// The Taylor coefficients of exp, 1 / k! from k = 13 down to 0.
+const TAYLOR: [f64; 14] = [
+    1.0 / 6_227_020_800.0,
+    1.0 / 479_001_600.0,
+    1.0 / 39_916_800.0,
+    1.0 / 3_628_800.0,
+    1.0 / 362_880.0,
+    1.0 / 40_320.0,
+    1.0 / 5_040.0,
+    1.0 / 720.0,
+    1.0 / 120.0,
+    1.0 / 24.0,
+    1.0 / 6.0,
+    0.5,
+    1.0,
+    1.0,
+];
+
+/// The polynomial with `coefficients` (highest power first) at `r`, in
+/// Horner form; with fused multiply-adds when `FMA`.
+#[inline(always)]
+fn horner<const FMA: bool>(coefficients: &[f64], r: f64) -> f64 {
+    let (first, rest) = coefficients
+        .split_first()
+        .map_or((0.0, &[][..]), |(f, r)| (*f, r));
+    rest.iter()
+        .fold(first, |p, &c| if FMA { p.mul_add(r, c) } else { p * r + c })
 }
 
 /// `-t = k ln2 + r` with `|r| <= ln2 / 2`: returns `r` and `2^k`, so that
