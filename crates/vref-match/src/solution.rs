@@ -1,5 +1,7 @@
 use vref_scene::SceneGraph;
 
+use crate::RigidMotion;
+
 /// What a method found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Solution {
@@ -17,6 +19,10 @@ pub struct Solution {
     pub iterations: usize,
     /// Whether the main loop met its tolerance before its iteration limit.
     pub converged: bool,
+    /// The motion taking human-view positions to robot-view positions that
+    /// the answer rests on, for methods that estimate one (`rigid`); `None`
+    /// for the others, and when `rigid` found no motion.
+    pub motion: Option<RigidMotion>,
 }
 
 impl Solution {

@@ -130,6 +130,10 @@ fn an_object_the_robot_does_not_see_stays_unmatched() {
     }
     assert_eq!(rigid.assignment[10], None);
     assert_eq!(rigid.confidence.len(), 11);
+    // The answer carries the motion it rests on: human frame to robot's.
+    let motion = rigid.motion.expect("rigid reports its motion");
+    assert!((motion.rotation - rotation.matrix()).abs().max() < 1e-6);
+    assert!((motion.translation - translation).abs().max() < 1e-6);
     assert!(rigid.confidence.iter().all(|c| (0.0..=1.0).contains(c)));
 
     // With more robot than human objects, the published methods give

@@ -126,6 +126,7 @@ pub fn solve_with(
         assignment,
         iterations: soft.iterations,
         converged: soft.converged,
+        motion: None,
     })
 }
 

@@ -119,6 +119,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         confidence,
         iterations,
         converged,
+        motion,
     }
 }
 
