@@ -232,7 +232,15 @@ fn malformed_headers_are_refused_and_the_last_good_snapshot_stays() {
                 kind: "schema-version",
                 side: "human",
                 reason: "schema_version",
-                defect: "schema version 1001, this build speaks 1",
+                // The injected version is this build's plus 1000.
+                defect: Box::leak(
+                    format!(
+                        "schema version {}, this build speaks {}",
+                        vref_wire::SCHEMA_VERSION + 1000,
+                        vref_wire::SCHEMA_VERSION
+                    )
+                    .into_boxed_str(),
+                ),
             },
         ],
     );

@@ -16,8 +16,9 @@ mod snapshot;
 
 pub use error::WireError;
 pub use messages::{
-    Alternative, AnswerStatus, FRAME_NAME_LEN, MAX_ALTERNATIVES, MAX_ANSWER_STATUSES,
-    MAX_FEATURE_DIM, MAX_REJECT_REASONS, MatcherStats, ObjectEntry, PointingRay, QueryKind,
-    ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION, SideCode, SnapshotHeader,
+    Alternative, AnswerStatus, DecisionEntry, DecisionHeader, FRAME_NAME_LEN, MAX_ALTERNATIVES,
+    MAX_ANSWER_STATUSES, MAX_DECISION_PAIRS, MAX_FEATURE_DIM, MAX_REJECT_REASONS, MatcherStats,
+    ObjectEntry, PointingRay, QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION, SideCode,
+    SnapshotHeader,
 };
 pub use snapshot::{Ray, ValidSnapshot, validate_snapshot};

@@ -5,7 +5,7 @@
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Bumped on any change of layout or meaning of these types.
-pub const SCHEMA_VERSION: u32 = 1;
+pub const SCHEMA_VERSION: u32 = 2;
 /// Features travel inline, so each object entry has a fixed size.
 pub const MAX_FEATURE_DIM: usize = 64;
 /// Bytes of a snapshot's frame name (UTF-8, zero-padded).
@@ -142,22 +142,34 @@ pub struct ReferenceAnswer {
     /// The human-view object the query resolved to.
     pub human_object_id: u64,
     pub robot_track_id: u64,
+    /// Sequence numbers of the snapshots the answering solution used.
     pub robot_sequence: u64,
     pub human_sequence: u64,
+    /// Capture age of those snapshots when the answer was sent (now minus
+    /// their `timestamp_ns`), microseconds.
     pub robot_age_us: u64,
     pub human_age_us: u64,
+    /// Time since the answering solution was finished, microseconds.
+    pub solve_age_us: u64,
+    /// Capture age of the pointing ray the answer used (latest-gesture
+    /// queries), microseconds; 0 when no stored ray was used.
+    pub ray_age_us: u64,
     /// The robot object's position in the robot camera frame, metres.
     pub position: [f32; 3],
+    /// The answered object in the human view's camera frame, metres, so a
+    /// headset can highlight it; valid with [`ReferenceAnswer::FLAG_HUMAN_POSITION`].
+    pub human_frame_position: [f32; 3],
     /// Probability that the answer is right.
     pub confidence: f32,
     /// An [`AnswerStatus`].
     pub status: u32,
     pub alternative_count: u32,
-    pub alternatives: [Alternative; MAX_ALTERNATIVES],
     pub schema_version: u32,
-    /// Bits about how the answer was made: [`ReferenceAnswer::FLAG_SOLVED`].
-    /// Unknown bits are 0 and readers ignore them.
+    pub alternatives: [Alternative; MAX_ALTERNATIVES],
+    /// Bits about how the answer was made ([`ReferenceAnswer::FLAG_SOLVED`]
+    /// and the others). Unknown bits are 0 and readers ignore them.
     pub flags: u32,
+    pub reserved: u32,
 }
 
 impl AnswerStatus {
@@ -192,6 +204,13 @@ impl ReferenceAnswer {
     /// without it the answer came from the cached solution (or from no
     /// solution at all, when the status says it could not match).
     pub const FLAG_SOLVED: u32 = 1;
+    /// `human_frame_position` holds the answered object in the human
+    /// view's frame.
+    pub const FLAG_HUMAN_POSITION: u32 = 1 << 1;
+    /// ... mapped there from the robot object through the estimated motion
+    /// between the views; without this bit it is the human object's own
+    /// measured position.
+    pub const FLAG_HUMAN_POSITION_FROM_MOTION: u32 = 1 << 2;
 
     /// An answer to request `request_id` with `status` and nothing found:
     /// no object, no confidence, no alternatives, no flags.
@@ -204,13 +223,17 @@ impl ReferenceAnswer {
             human_sequence: 0,
             robot_age_us: 0,
             human_age_us: 0,
+            solve_age_us: 0,
+            ray_age_us: 0,
             position: [0.0; 3],
+            human_frame_position: [0.0; 3],
             confidence: 0.0,
             status: status as u32,
             alternative_count: 0,
-            alternatives: [Alternative::default(); MAX_ALTERNATIVES],
             schema_version: SCHEMA_VERSION,
+            alternatives: [Alternative::default(); MAX_ALTERNATIVES],
             flags: 0,
+            reserved: 0,
         }
     }
 
@@ -299,5 +322,147 @@ impl MatcherStats {
 
     pub fn rejected_total(&self) -> u64 {
         self.rejected.iter().sum()
+    }
+}
+
+/// Most pairs a published decision carries (one per human object).
+pub const MAX_DECISION_PAIRS: usize = 1024;
+
+/// The user header of the matcher's decision: what the latest finished
+/// solve concluded about the whole scene. One entry per human object
+/// follows as a slice.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::DecisionHeader")]
+pub struct DecisionHeader {
+    /// (session, sequence) and capture time of the snapshots solved.
+    pub robot_session: u64,
+    pub robot_sequence: u64,
+    pub robot_timestamp_ns: u64,
+    pub human_session: u64,
+    pub human_sequence: u64,
+    pub human_timestamp_ns: u64,
+    /// When the solve finished, nanoseconds since the Unix epoch.
+    pub solved_ns: u64,
+    /// How long the solve took, microseconds.
+    pub solve_us: u64,
+    /// The matcher's solve counter at this decision (1 for the first).
+    pub solve_index: u64,
+    /// Human camera frame to robot camera frame, `q = R p + t`, `R`
+    /// row-major; valid with [`DecisionHeader::FLAG_MOTION`].
+    pub rotation: [f32; 9],
+    pub translation: [f32; 3],
+    /// Entries used in the slice.
+    pub pair_count: u32,
+    /// Bits: [`DecisionHeader::FLAG_MOTION`].
+    pub flags: u32,
+    /// The matching method, zero-padded UTF-8 (e.g. "rigid").
+    pub method: [u8; 16],
+    pub schema_version: u32,
+    pub reserved: u32,
+}
+
+impl DecisionHeader {
+    /// The method estimated a rigid motion between the views.
+    pub const FLAG_MOTION: u32 = 1;
+}
+
+impl Default for DecisionHeader {
+    fn default() -> Self {
+        Self {
+            robot_session: 0,
+            robot_sequence: 0,
+            robot_timestamp_ns: 0,
+            human_session: 0,
+            human_sequence: 0,
+            human_timestamp_ns: 0,
+            solved_ns: 0,
+            solve_us: 0,
+            solve_index: 0,
+            rotation: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+            translation: [0.0; 3],
+            pair_count: 0,
+            flags: 0,
+            method: [0; 16],
+            schema_version: SCHEMA_VERSION,
+            reserved: 0,
+        }
+    }
+}
+
+/// One human object's outcome in a decision.
+#[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("vref::DecisionEntry")]
+pub struct DecisionEntry {
+    pub human_track_id: u64,
+    /// The partner; valid with [`DecisionEntry::FLAG_PARTNER`].
+    pub robot_track_id: u64,
+    /// Probability that this outcome (a partner, or none) is right.
+    pub confidence: f32,
+    /// An [`AnswerStatus`]: `ok` (matched), `ambiguous` (below the
+    /// threshold, with or without a partner) or `no_match`.
+    pub status: u32,
+    /// Bits: [`DecisionEntry::FLAG_PARTNER`].
+    pub flags: u32,
+    pub reserved: u32,
+}
+
+impl DecisionEntry {
+    /// The human object was given a robot partner.
+    pub const FLAG_PARTNER: u32 = 1;
+}
+
+#[cfg(test)]
+mod tests {
+    use std::mem::{align_of, size_of};
+
+    use super::*;
+
+    /// Every wire type is laid out without implicit padding: its size is
+    /// the sum of its fields' sizes, so another language's mirror of it
+    /// (and a byte-wise copy) sees no uninitialised bytes.
+    #[test]
+    fn wire_types_have_no_implicit_padding() {
+        let cases: [(&str, usize, usize); 9] = [
+            (
+                "SnapshotHeader",
+                size_of::<SnapshotHeader>(),
+                3 * 8 + 4 * 4 + FRAME_NAME_LEN,
+            ),
+            (
+                "ObjectEntry",
+                size_of::<ObjectEntry>(),
+                8 + 6 * 4 + MAX_FEATURE_DIM * 4,
+            ),
+            ("PointingRay", size_of::<PointingRay>(), 3 * 8 + 10 * 4),
+            (
+                "ReferenceQuery",
+                size_of::<ReferenceQuery>(),
+                2 * 8 + 10 * 4,
+            ),
+            ("Alternative", size_of::<Alternative>(), 8 + 2 * 4),
+            (
+                "ReferenceAnswer",
+                size_of::<ReferenceAnswer>(),
+                9 * 8 + 10 * 4 + MAX_ALTERNATIVES * 16 + 2 * 4,
+            ),
+            (
+                "MatcherStats",
+                size_of::<MatcherStats>(),
+                (3 + 2 + 2 + MAX_REJECT_REASONS + MAX_ANSWER_STATUSES + 2) * 8 + 2 * 4,
+            ),
+            (
+                "DecisionHeader",
+                size_of::<DecisionHeader>(),
+                9 * 8 + 12 * 4 + 2 * 4 + 16 + 2 * 4,
+            ),
+            ("DecisionEntry", size_of::<DecisionEntry>(), 2 * 8 + 4 * 4),
+        ];
+        for (name, size, fields) in cases {
+            assert_eq!(size, fields, "{name}: {size} bytes, fields {fields}");
+        }
+        assert_eq!(align_of::<ReferenceAnswer>(), 8);
+        assert_eq!(align_of::<DecisionHeader>(), 8);
     }
 }

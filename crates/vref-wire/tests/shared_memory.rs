@@ -117,3 +117,51 @@ fn nodes_are_created_from_the_shipped_iceoryx2_config_with_vref_overrides() {
         "{err}"
     );
 }
+
+#[test]
+fn a_decision_round_trips_through_its_service() {
+    use vref_wire::ipc::{Decision, DecisionPublisher, DecisionReader, IpcSettings, create_node};
+    use vref_wire::{AnswerStatus, DecisionEntry, DecisionHeader};
+
+    let root = tempfile::tempdir().unwrap();
+    let settings = IpcSettings {
+        root_path: Some(root.path().to_path_buf()),
+        prefix: format!("vref_dec_{}_", std::process::id()),
+        namespace: "vref_test_decision".to_owned(),
+        initial_objects: 2,
+        ..IpcSettings::default()
+    };
+    let node = create_node(&settings, "decision-publisher").unwrap();
+    let mut publisher = DecisionPublisher::new(&node, &settings).unwrap();
+    let reader = DecisionReader::connect(&settings, "decision-reader").unwrap();
+    assert!(reader.latest().unwrap().is_none());
+
+    let entries: Vec<DecisionEntry> = (0..5)
+        .map(|k| DecisionEntry {
+            human_track_id: k,
+            robot_track_id: 100 + k,
+            confidence: 0.9,
+            status: AnswerStatus::Ok as u32,
+            flags: DecisionEntry::FLAG_PARTNER,
+            reserved: 0,
+        })
+        .collect();
+    let mut header = DecisionHeader {
+        robot_sequence: 7,
+        human_sequence: 9,
+        solve_index: 3,
+        flags: DecisionHeader::FLAG_MOTION,
+        ..DecisionHeader::default()
+    };
+    header.method[..5].copy_from_slice(b"rigid");
+    // Five entries exceed the initial slice length of two.
+    publisher
+        .publish(header, entries.len(), |i| entries[i])
+        .unwrap();
+    let got: Decision = reader.latest().unwrap().expect("a decision").unwrap();
+    assert_eq!(got.entries, entries);
+    assert_eq!(got.header.pair_count, 5);
+    assert_eq!(got.header.robot_sequence, 7);
+    assert_eq!(got.method(), "rigid");
+    assert!(reader.latest().unwrap().is_none(), "nothing new");
+}

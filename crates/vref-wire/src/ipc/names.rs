@@ -38,6 +38,11 @@ impl ServiceNames {
         format!("{}/matcher/stats", self.namespace)
     }
 
+    /// The matcher's latest decision: every human object's outcome.
+    pub fn decision(&self) -> String {
+        format!("{}/matcher/decision", self.namespace)
+    }
+
     /// Signalled by the matcher after it sent answers.
     pub fn answers(&self) -> String {
         format!("{}/reference/answers", self.namespace)

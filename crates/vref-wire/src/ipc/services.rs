@@ -5,7 +5,8 @@ use vref_scene::Side;
 use super::error::{IpcError, iceoryx_err};
 use super::{IpcSettings, Node, ServiceNames};
 use crate::{
-    MatcherStats, ObjectEntry, PointingRay, ReferenceAnswer, ReferenceQuery, SnapshotHeader,
+    DecisionEntry, DecisionHeader, MatcherStats, ObjectEntry, PointingRay, ReferenceAnswer,
+    ReferenceQuery, SnapshotHeader,
 };
 
 pub type SnapshotPort = publish_subscribe::PortFactory<ipc::Service, [ObjectEntry], SnapshotHeader>;
@@ -15,6 +16,8 @@ pub type ReferencePort =
 pub type EventPort = event::PortFactory<ipc::Service>;
 pub type StatsPort = publish_subscribe::PortFactory<ipc::Service, MatcherStats, ()>;
 pub type AnswerPort = EventPort;
+pub type DecisionPort =
+    publish_subscribe::PortFactory<ipc::Service, [DecisionEntry], DecisionHeader>;
 
 /// Event id sent when a notifier's process was found dead and cleaned up.
 pub const NOTIFIER_DEAD: usize = 7;
@@ -126,4 +129,26 @@ pub fn open_stats(node: &Node, settings: &IpcSettings) -> Result<StatsPort, IpcE
         .max_subscribers(settings.max_subscribers + settings.max_clients)
         .open_or_create()
         .map_err(|e| iceoryx_err(format!("opening {name}"), e))
+}
+
+/// The matcher's decision after each solve (latest wins) and its event.
+pub fn open_decision(
+    node: &Node,
+    settings: &IpcSettings,
+) -> Result<(DecisionPort, EventPort), IpcError> {
+    let name = ServiceNames::new(&settings.namespace).decision();
+    let data = node
+        .service_builder(&service_name(&name)?)
+        .publish_subscribe::<[DecisionEntry]>()
+        .user_header::<DecisionHeader>()
+        .history_size(1)
+        .subscriber_max_buffer_size(1)
+        .subscriber_max_borrowed_samples(2)
+        .enable_safe_overflow(true)
+        .max_publishers(PORTS_PER_ROLE)
+        .max_subscribers(settings.max_subscribers + settings.max_clients)
+        .open_or_create()
+        .map_err(|e| iceoryx_err(format!("opening {name}"), e))?;
+    let event = open_event(node, settings, &ServiceNames::event_of(&name))?;
+    Ok((data, event))
 }
