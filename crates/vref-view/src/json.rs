@@ -1,6 +1,8 @@
 //! Answers, the matcher's statistics and its decision as JSON messages
 //! (Foxglove's Raw Messages and Plot panels read them), each with a JSON
-//! schema.
+//! schema. Every field is always present with one type (no nulls, no
+//! `oneOf`: Foxglove's schema reader takes neither); a `has_...` flag says
+//! whether a value means anything.
 
 use serde_json::{Value, json};
 use vref_wire::ipc::Decision;
@@ -11,8 +13,6 @@ use crate::state::Asked;
 /// An answer the viewer asked for.
 pub fn answer(asked: &Asked) -> Value {
     let a = &asked.answer;
-    let human_frame =
-        (a.flags & ReferenceAnswer::FLAG_HUMAN_POSITION != 0).then_some(a.human_frame_position);
     json!({
         "status": a.status().name(),
         "request_id": a.request_id,
@@ -20,7 +20,8 @@ pub fn answer(asked: &Asked) -> Value {
         "robot_track_id": a.robot_track_id,
         "confidence": a.confidence,
         "position": a.position,
-        "human_frame_position": human_frame,
+        "has_human_frame_position": a.flags & ReferenceAnswer::FLAG_HUMAN_POSITION != 0,
+        "human_frame_position": a.human_frame_position,
         "human_frame_position_from_motion":
             a.flags & ReferenceAnswer::FLAG_HUMAN_POSITION_FROM_MOTION != 0,
         "solved": a.solved(),
@@ -61,18 +62,19 @@ pub fn stats(s: &MatcherStats) -> Value {
 /// The matcher's decision: every human object's outcome.
 pub fn decision(d: &Decision) -> Value {
     let h = &d.header;
-    let motion = (h.flags & DecisionHeader::FLAG_MOTION != 0)
-        .then(|| json!({"rotation": h.rotation, "translation": h.translation}));
     json!({
         "method": d.method(),
         "solve_index": h.solve_index,
         "solve_us": h.solve_us,
         "robot_sequence": h.robot_sequence,
         "human_sequence": h.human_sequence,
-        "motion": motion,
+        "motion_estimated": h.flags & DecisionHeader::FLAG_MOTION != 0,
+        "rotation": h.rotation,
+        "translation": h.translation,
         "pairs": d.entries.iter().map(|e| json!({
             "human_track_id": e.human_track_id,
-            "robot_track_id": (e.flags & DecisionEntry::FLAG_PARTNER != 0).then_some(e.robot_track_id),
+            "has_partner": e.flags & DecisionEntry::FLAG_PARTNER != 0,
+            "robot_track_id": e.robot_track_id,
             "confidence": e.confidence,
             "status": AnswerStatus::from_code(e.status).map_or("unknown", AnswerStatus::name),
         })).collect::<Vec<_>>(),
@@ -109,7 +111,8 @@ pub fn answer_schema() -> Value {
             "robot_track_id": t(INTEGER),
             "confidence": t(NUMBER),
             "position": vec3(),
-            "human_frame_position": {"oneOf": [vec3(), {"type": "null"}]},
+            "has_human_frame_position": t("boolean"),
+            "human_frame_position": vec3(),
             "human_frame_position_from_motion": t("boolean"),
             "solved": t("boolean"),
             "alternatives": {"type": "array", "items": object("vref.Alternative", json!({
@@ -154,7 +157,6 @@ pub fn stats_schema() -> Value {
 }
 
 pub fn decision_schema() -> Value {
-    let nullable_int = json!({"oneOf": [t(INTEGER), {"type": "null"}]});
     object(
         "vref.Decision",
         json!({
@@ -163,13 +165,13 @@ pub fn decision_schema() -> Value {
             "solve_us": t(INTEGER),
             "robot_sequence": t(INTEGER),
             "human_sequence": t(INTEGER),
-            "motion": {"oneOf": [object("vref.Motion", json!({
-                "rotation": {"type": "array", "items": t(NUMBER), "minItems": 9, "maxItems": 9},
-                "translation": vec3(),
-            })), {"type": "null"}]},
+            "motion_estimated": t("boolean"),
+            "rotation": {"type": "array", "items": t(NUMBER), "minItems": 9, "maxItems": 9},
+            "translation": vec3(),
             "pairs": {"type": "array", "items": object("vref.Pair", json!({
                 "human_track_id": t(INTEGER),
-                "robot_track_id": nullable_int,
+                "has_partner": t("boolean"),
+                "robot_track_id": t(INTEGER),
                 "confidence": t(NUMBER),
                 "status": t("string"),
             }))},
@@ -207,7 +209,7 @@ mod tests {
         declared(&message, &answer_schema());
         assert_eq!(message["status"], "ok");
         assert_eq!(message["round_trip_us"], 42);
-        assert!(message["human_frame_position"].is_array());
+        assert_eq!(message["has_human_frame_position"], true);
 
         let message = stats(&MatcherStats::default());
         declared(&message, &stats_schema());
@@ -226,8 +228,8 @@ mod tests {
         };
         let message = decision(&d);
         declared(&message, &decision_schema());
-        assert_eq!(message["pairs"][0]["robot_track_id"], Value::Null);
+        assert_eq!(message["pairs"][0]["has_partner"], false);
         assert_eq!(message["pairs"][0]["status"], "no_match");
-        assert_eq!(message["motion"], Value::Null);
+        assert_eq!(message["motion_estimated"], false);
     }
 }
