@@ -309,11 +309,13 @@ fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answ
     assert_eq!(entity("ray").arrows.len(), 1);
     let pairs = &entity("pairs").lines;
     assert_eq!(pairs.len(), 6);
-    // Placed by the motion, each human object lands on its partner.
+    // Placed by the motion, each human object lands on its partner (within
+    // a centimetre: once the matcher publishes its own estimate beside the
+    // test's exact one, either may be the last).
     for line in pairs {
         let (a, b) = (line.points[0], line.points[1]);
         let gap = ((a.x - b.x).powi(2) + (a.y - b.y).powi(2) + (a.z - b.z).powi(2)).sqrt();
-        assert!(gap < 1e-5, "pair line of {gap} m");
+        assert!(gap < 0.01, "pair line of {gap} m");
     }
 
     python_reads(&out);
