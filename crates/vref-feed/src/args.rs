@@ -13,7 +13,7 @@ pub struct FeedArgs {
     /// What to publish: `synthetic` (a live world from the [feeds] preset
     /// and seed), `dataset:FILE` (the scene pairs of a JSON Lines dataset
     /// in turn, each for --hold-s seconds) or `recording:FILE` (a vref
-    /// recording, replayed with its own timing, looping).
+    /// recording, MCAP or .vrec, replayed with its own timing, looping).
     #[arg(long, value_name = "SOURCE", default_value = "synthetic")]
     pub source: SourceSpec,
     /// Snapshots per second (default: [feeds] snapshot_rate_hz).

@@ -1,11 +1,9 @@
 //! A recording as a feed: this feed's frames, with their original spacing,
-//! over and over.
+//! over and over. Either format (MCAP or vref's own) is read whole.
 
-use std::fs::File;
-use std::io::BufReader;
 use std::path::Path;
 
-use vref_record::{Frame, RecordedSnapshot, RecordingReader};
+use vref_record::{Frame, RecordedSnapshot, read_frames};
 use vref_scene::Side;
 use vref_wire::ObjectEntry;
 
@@ -44,21 +42,16 @@ impl Replay {
         gestures: bool,
         fallback_gap_ns: u64,
     ) -> Result<Self, SetupError> {
-        let file = File::open(path).map_err(|source| SetupError::OpenRecording {
+        let bytes = std::fs::read(path).map_err(|source| SetupError::OpenRecording {
             path: path.to_owned(),
             source,
         })?;
-        let reader =
-            RecordingReader::new(BufReader::new(file)).map_err(|source| SetupError::Recording {
-                path: path.to_owned(),
-                source,
-            })?;
+        let recorded = read_frames(&bytes).map_err(|source| SetupError::Recording {
+            path: path.to_owned(),
+            source,
+        })?;
         let mut frames: Vec<(u64, Item)> = Vec::new();
-        for (index, frame) in reader.enumerate() {
-            let frame = frame.map_err(|source| SetupError::Recording {
-                path: path.to_owned(),
-                source,
-            })?;
+        for (index, frame) in recorded.into_iter().enumerate() {
             let item = match frame {
                 Frame::Snapshot(s) if s.side() == side => {
                     let item = snapshot_item(&s).map_err(|source| SetupError::Entry {

@@ -17,4 +17,13 @@ pub enum RecordError {
     Decode { frame: u64, message: String },
     #[error("frame {frame}: cannot encode: {message}")]
     Encode { frame: u64, message: String },
+    #[error("MCAP file")]
+    Mcap(#[source] mcap::McapError),
+    #[error("message {message} on {topic}")]
+    Wire {
+        topic: &'static str,
+        message: u64,
+        #[source]
+        source: vref_wire::bytes::BytesError,
+    },
 }

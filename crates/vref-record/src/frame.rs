@@ -1,5 +1,6 @@
 use serde::{Deserialize, Serialize};
 use vref_scene::Side;
+use vref_wire::{MAX_FEATURE_DIM, ObjectEntry, PointingRay, SnapshotHeader};
 
 /// One recorded publication.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -34,6 +35,35 @@ impl RecordedSnapshot {
     pub fn side(&self) -> Side {
         if self.robot { Side::Robot } else { Side::Human }
     }
+
+    /// A snapshot as published on `side`'s service. Recordings keep what
+    /// was sent, even a malformed snapshot, so that replays reproduce
+    /// faults; only the slice bounds are respected.
+    pub fn from_wire(side: Side, header: &SnapshotHeader, entries: &[ObjectEntry]) -> Self {
+        let count = (header.object_count as usize).min(entries.len());
+        let dim = (header.feature_dim as usize).min(MAX_FEATURE_DIM);
+        let end = header
+            .frame_name
+            .iter()
+            .position(|&b| b == 0)
+            .unwrap_or(header.frame_name.len());
+        RecordedSnapshot {
+            robot: side == Side::Robot,
+            sequence: header.sequence,
+            timestamp_ns: header.timestamp_ns,
+            frame_name: String::from_utf8_lossy(&header.frame_name[..end]).into_owned(),
+            feature_dim: header.feature_dim,
+            objects: entries[..count]
+                .iter()
+                .map(|e| RecordedObject {
+                    track_id: e.track_id,
+                    position: e.position,
+                    position_sigma: e.position_sigma,
+                    feature: e.feature[..dim].to_vec(),
+                })
+                .collect(),
+        }
+    }
 }
 
 /// One object of a recorded snapshot.
@@ -54,4 +84,18 @@ pub struct RecordedRay {
     pub direction: [f32; 3],
     pub cone_half_angle: f32,
     pub confidence: f32,
+}
+
+impl RecordedRay {
+    /// A ray as published, valid or not.
+    pub fn from_wire(r: &PointingRay) -> Self {
+        RecordedRay {
+            sequence: r.sequence,
+            timestamp_ns: r.timestamp_ns,
+            origin: r.origin,
+            direction: r.direction,
+            cone_half_angle: r.cone_half_angle,
+            confidence: r.confidence,
+        }
+    }
 }

@@ -1,20 +1,33 @@
 //! Recordings of what the feeds published, to replay later as a feed
-//! source. A file is the magic `VREFREC1` followed by frames, each a
-//! little-endian `u32` length and that many bytes of bincode (standard
-//! configuration, serde). Frames are in publication order with their
-//! timestamps, so a replay can keep the original pacing.
+//! source, in one of two formats, told apart by their first bytes:
+//!
+//! - **MCAP** (`.mcap`), written by `vref record --out FILE.mcap` and
+//!   `vref view --mcap FILE` (crate vref-view, through the Foxglove SDK):
+//!   the raw wire messages on their own channels ([`WireChannel`]) beside
+//!   Foxglove's; [`read_frames`] reads the raw ones back.
+//! - **vref's own** (`.vrec`, [`RecordingWriter`], [`RecordingReader`]):
+//!   the magic `VREFREC1` followed by frames, each a little-endian `u32`
+//!   length and that many bytes of bincode (standard configuration,
+//!   serde).
+//!
+//! Frames are in arrival order with their timestamps, so a replay can keep
+//! the original pacing.
 
 mod error;
 mod frame;
+mod mcap_file;
 mod reader;
+mod wire_channels;
 mod writer;
 
 pub use error::RecordError;
 pub use frame::{Frame, RecordedObject, RecordedRay, RecordedSnapshot};
+pub use mcap_file::{MCAP_MAGIC, mcap_frames, read_frames};
 pub use reader::RecordingReader;
+pub use wire_channels::{WIRE_ENCODING, WIRE_SCHEMA_ENCODING, WireChannel};
 pub use writer::RecordingWriter;
 
-/// First bytes of every recording.
+/// First bytes of every recording in vref's own format.
 pub const MAGIC: &[u8; 8] = b"VREFREC1";
 /// Largest frame accepted when reading: a corrupt length must not make the
 /// reader allocate without bound.

@@ -5,9 +5,12 @@
 //! [`PointingRay::validate`] turn raw messages into checked values or a
 //! typed [`WireError`].
 //!
+//! [`bytes`] writes them as bytes for recordings and reads them back.
+//!
 //! [`ipc`] names and creates every service in one place and holds the
 //! publishers and the client library that robot tasks link.
 
+pub mod bytes;
 mod error;
 pub mod fuzz_input;
 pub mod ipc;

@@ -70,6 +70,17 @@ pub fn query(args: &BenchQueryArgs) -> Result<(), Failure> {
         .args(["bench", "echo-server", "--config"])
         .arg(&config_path);
     echo.spawn("vref-bench-echo", command).runtime()?;
+    if args.with_viewer {
+        // A viewer as a person would run one: live server (no client) and
+        // an MCAP file of everything, raw wire messages included.
+        let mut command = std::process::Command::new(&vref);
+        command
+            .args(["view", "--listen", "127.0.0.1:0", "--mcap"])
+            .arg(dir.path().join("view.mcap"))
+            .arg("--config")
+            .arg(&config_path);
+        echo.spawn("vref-view", command).runtime()?;
+    }
     let mut system =
         Services::start_system(&binaries, &config_path, Some(args.objects), dir.path())
             .runtime()?;
@@ -325,6 +336,7 @@ impl Report {
             "rate_hz": args.rate,
             "duration_s": args.duration.as_secs_f64(),
             "human_objects_mean": (self.mean_human_objects() * 10.0).round() / 10.0,
+            "with_viewer": args.with_viewer,
         })
     }
 

@@ -50,7 +50,17 @@ pub enum Command {
     Soak(SoakArgs),
     /// Record what the feeds publish (snapshots of both views, pointing
     /// rays) into a file that a feed can replay (--source recording:FILE).
+    /// FILE.mcap: an MCAP file with the raw wire messages on their own
+    /// channels beside the Foxglove channels of `vref view`; any other
+    /// name: vref's own bincode frames.
     Record(RecordArgs),
+    /// See what the matcher decides, in Foxglove: both views' objects
+    /// coloured by the matcher's decision, the pairs, the pointing ray and
+    /// the latest answer, served live over the Foxglove WebSocket protocol
+    /// (open ws://ADDR in Foxglove) and/or written to an MCAP file
+    /// (docs/viewer.md). Subscribes only, plus --answer-rate latest-gesture
+    /// queries of its own.
+    View(ViewArgs),
     /// Publish one kind of malformed message into the running services
     /// (fault injection); an unknown kind lists the kinds.
     Inject(crate::inject::InjectArgs),
@@ -274,12 +284,18 @@ pub struct QueryArgs {
 
 #[derive(Debug, Args)]
 pub struct RecordArgs {
-    /// Output recording (bincode frames with timestamps).
+    /// Output recording: FILE.mcap for MCAP (raw wire channels and
+    /// Foxglove channels), any other name for vref's own bincode frames
+    /// with timestamps (.vrec).
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
     /// How long to record, e.g. 10s, 500ms, 2m.
     #[arg(long, value_name = "D", value_parser = crate::duration::parse_duration)]
     pub duration: std::time::Duration,
+    /// MCAP only: latest-gesture queries per second whose answers are
+    /// recorded on /vref/answer (0: none, the recorder only subscribes).
+    #[arg(long, value_name = "HZ", default_value_t = 0.0, value_parser = rate_or_zero)]
+    pub answer_rate: f64,
     /// Configuration file (its [ipc] section says where the feeds are).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
@@ -335,6 +351,41 @@ pub struct SoakArgs {
     pub config: Option<PathBuf>,
 }
 
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// Serve the Foxglove WebSocket protocol on this address; port 0
+    /// takes a free one. The address served is printed.
+    #[arg(long, value_name = "ADDR", default_value = "127.0.0.1:8765")]
+    pub listen: std::net::SocketAddr,
+    /// Serve nothing; only write --mcap.
+    #[arg(long, requires = "mcap")]
+    pub no_listen: bool,
+    /// Write every channel to this MCAP file, with the raw wire messages
+    /// (a feed can replay it: --source recording:FILE.mcap).
+    #[arg(long, value_name = "FILE.mcap")]
+    pub mcap: Option<PathBuf>,
+    /// Stop after this long, e.g. 30s (default: on SIGINT/SIGTERM).
+    #[arg(long, value_name = "D", value_parser = crate::duration::parse_duration)]
+    pub duration: Option<std::time::Duration>,
+    /// Most scene updates per second.
+    #[arg(long, value_name = "HZ", default_value_t = 10.0, value_parser = positive_rate)]
+    pub scene_rate: f64,
+    /// Latest-gesture queries per second whose answers are shown (the
+    /// viewer cannot see other clients' answers); 0: none.
+    #[arg(long, value_name = "HZ", default_value_t = 2.0, value_parser = rate_or_zero)]
+    pub answer_rate: f64,
+    /// Configuration file (its [ipc] section says where the services are).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+fn rate_or_zero(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(0.0) => Ok(0.0),
+        _ => positive_rate(s),
+    }
+}
+
 fn positive_rate(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 && v <= 1000.0 => Ok(v),
@@ -377,6 +428,11 @@ pub struct BenchQueryArgs {
     /// Objects in the synthetic world (each view sees most of them).
     #[arg(long, value_name = "N", default_value_t = 32)]
     pub objects: usize,
+    /// Also run `vref view` (its server listening on a free loopback port,
+    /// writing an MCAP file of everything) on the services measured, to
+    /// see what viewing costs the matcher's query path.
+    #[arg(long)]
+    pub with_viewer: bool,
     /// Ticks per second; each tick sends two matcher queries and one echo
     /// query.
     #[arg(long, value_name = "HZ", default_value_t = 200.0, value_parser = positive_rate)]

@@ -24,6 +24,7 @@ mod soak;
 mod stdout;
 mod sweep;
 mod table;
+mod view;
 mod viz;
 
 use std::process::ExitCode;
@@ -43,6 +44,7 @@ fn main() -> ExitCode {
         Command::Viz(args) => viz::run(&args),
         Command::Query(args) => query::run(&args),
         Command::Record(args) => record::run(&args),
+        Command::View(args) => view::run(&args),
         Command::Inject(args) => inject::run(&args),
         Command::Demo(args) => demo::run(&args),
         Command::Soak(args) => soak::run(&args),

@@ -6,10 +6,10 @@ use anyhow::{Context, anyhow};
 use iceoryx2::prelude::*;
 use iceoryx2::waitset::WaitSetRunResult;
 use vref_config::Config;
-use vref_record::{Frame, RecordedObject, RecordedRay, RecordedSnapshot, RecordingWriter};
+use vref_record::{Frame, RecordedRay, RecordedSnapshot, RecordingWriter};
 use vref_scene::Side;
+use vref_view::ViewOptions;
 use vref_wire::ipc::{create_node, open_gesture, open_snapshot};
-use vref_wire::{MAX_FEATURE_DIM, ObjectEntry, SnapshotHeader};
 
 use crate::cli::RecordArgs;
 use crate::failure::{Blame, Failure};
@@ -19,6 +19,13 @@ const TICK: Duration = Duration::from_millis(100);
 
 pub fn run(args: &RecordArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
+    if args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mcap"))
+    {
+        return record_mcap(args, &config);
+    }
     let partial = args.out.with_extension("vrec.tmp");
     let file = File::create(&partial)
         .with_context(|| format!("creating {}", partial.display()))
@@ -40,6 +47,38 @@ pub fn run(args: &RecordArgs) -> Result<(), Failure> {
         Err(e) => {
             std::fs::remove_file(&partial).ok();
             Err(e)
+        }
+    }
+}
+
+/// An MCAP recording: `vref view`'s channels, the raw wire ones among
+/// them, written by vref-view with nothing served.
+fn record_mcap(args: &RecordArgs, config: &Config) -> Result<(), Failure> {
+    let partial = args.out.with_extension("mcap.tmp");
+    let options = ViewOptions {
+        listen: None,
+        mcap: Some(partial.clone()),
+        duration: Some(args.duration),
+        scene_rate_hz: 10.0,
+        answer_rate_hz: args.answer_rate,
+    };
+    match vref_view::run(&config.ipc, &options, |_| {}) {
+        Ok(counts) => {
+            std::fs::rename(&partial, &args.out)
+                .with_context(|| {
+                    format!("renaming {} to {}", partial.display(), args.out.display())
+                })
+                .runtime()?;
+            tracing::info!(messages = counts.total(), out = %args.out.display(), "recorded");
+            crate::stdout::print(&format!(
+                "{}: {}\n",
+                args.out.display(),
+                crate::view::describe(&counts)
+            ))
+        }
+        Err(e) => {
+            std::fs::remove_file(&partial).ok();
+            Err(crate::view::blame(e))
         }
     }
 }
@@ -114,7 +153,7 @@ fn record(
         };
         for (side, sub) in [(Side::Robot, &robot), (Side::Human, &human)] {
             while let Ok(Some(sample)) = sub.receive() {
-                write(Frame::Snapshot(snapshot(
+                write(Frame::Snapshot(RecordedSnapshot::from_wire(
                     side,
                     sample.user_header(),
                     sample.payload(),
@@ -122,48 +161,11 @@ fn record(
             }
         }
         while let Ok(Some(sample)) = gesture.receive() {
-            let r = sample.payload();
-            write(Frame::Gesture(RecordedRay {
-                sequence: r.sequence,
-                timestamp_ns: r.timestamp_ns,
-                origin: r.origin,
-                direction: r.direction,
-                cone_half_angle: r.cone_half_angle,
-                confidence: r.confidence,
-            }));
+            write(Frame::Gesture(RecordedRay::from_wire(sample.payload())));
         }
     }
     match failure {
         Some(e) => Err(e),
         None => Ok(frames),
-    }
-}
-
-/// Copies a snapshot as published. Recordings keep what was sent, even a
-/// malformed snapshot, so that replays reproduce faults; only the slice
-/// bounds are respected.
-fn snapshot(side: Side, header: &SnapshotHeader, entries: &[ObjectEntry]) -> RecordedSnapshot {
-    let count = (header.object_count as usize).min(entries.len());
-    let dim = (header.feature_dim as usize).min(MAX_FEATURE_DIM);
-    let end = header
-        .frame_name
-        .iter()
-        .position(|&b| b == 0)
-        .unwrap_or(header.frame_name.len());
-    RecordedSnapshot {
-        robot: side == Side::Robot,
-        sequence: header.sequence,
-        timestamp_ns: header.timestamp_ns,
-        frame_name: String::from_utf8_lossy(&header.frame_name[..end]).into_owned(),
-        feature_dim: header.feature_dim,
-        objects: entries[..count]
-            .iter()
-            .map(|e| RecordedObject {
-                track_id: e.track_id,
-                position: e.position,
-                position_sigma: e.position_sigma,
-                feature: e.feature[..dim].to_vec(),
-            })
-            .collect(),
     }
 }

@@ -1,0 +1,147 @@
+//! MCAP recordings read back as frames: a file written here with the
+//! `mcap` crate's own writer, as vref-view writes them (raw wire channels
+//! beside others), and the format told by its first bytes.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::collections::BTreeMap;
+use std::io::Cursor;
+
+use vref_record::{
+    Frame, RecordError, RecordingWriter, WIRE_ENCODING, WIRE_SCHEMA_ENCODING, WireChannel,
+    read_frames,
+};
+use vref_wire::bytes::{put_sample, to_bytes};
+use vref_wire::{MAX_FEATURE_DIM, ObjectEntry, PointingRay, SnapshotHeader};
+
+fn header(sequence: u64, count: u32) -> SnapshotHeader {
+    let mut frame_name = [0; 32];
+    frame_name[..12].copy_from_slice(b"robot_camera");
+    SnapshotHeader {
+        session: 9,
+        sequence,
+        timestamp_ns: 1_000 * sequence,
+        schema_version: 2,
+        side: 0,
+        object_count: count,
+        feature_dim: 2,
+        frame_name,
+    }
+}
+
+fn entry(id: u64) -> ObjectEntry {
+    let mut feature = [0.0; MAX_FEATURE_DIM];
+    feature[..2].copy_from_slice(&[0.5, 0.25]);
+    ObjectEntry {
+        track_id: id,
+        position: [0.1, -0.2, 1.5],
+        position_sigma: [0.01; 3],
+        feature,
+    }
+}
+
+fn ray() -> PointingRay {
+    PointingRay {
+        session: 3,
+        sequence: 1,
+        timestamp_ns: 1_500,
+        origin: [0.0; 3],
+        direction: [0.0, 0.1, 1.0],
+        cone_half_angle: 0.1,
+        confidence: 0.9,
+        schema_version: 2,
+        reserved: 0,
+    }
+}
+
+#[test]
+fn raw_wire_channels_read_back_as_the_frames_published() {
+    let mut snapshot = Vec::new();
+    // A count over the slice is kept as sent; the frame holds what the
+    // slice carries.
+    put_sample(&header(1, 3), &[entry(7), entry(8)], &mut snapshot);
+    let bytes = written(&[
+        (WireChannel::RobotSnapshot, snapshot),
+        (WireChannel::Gesture, to_bytes(&ray())),
+    ]);
+    let frames = read_frames(&bytes).unwrap();
+    assert_eq!(frames.len(), 2, "{frames:?}");
+    let Frame::Snapshot(s) = &frames[0] else {
+        panic!("{frames:?}")
+    };
+    assert!(s.robot);
+    assert_eq!((s.sequence, s.timestamp_ns), (1, 1_000));
+    assert_eq!(s.frame_name, "robot_camera");
+    assert_eq!(s.objects.len(), 2);
+    assert_eq!(s.objects[1].track_id, 8);
+    assert_eq!(s.objects[1].feature, [0.5, 0.25]);
+    let Frame::Gesture(r) = &frames[1] else {
+        panic!("{frames:?}")
+    };
+    assert_eq!(r.direction, [0.0, 0.1, 1.0]);
+}
+
+#[test]
+fn a_raw_message_of_the_wrong_length_names_its_channel() {
+    let bytes = written(&[(WireChannel::Gesture, vec![0; 10])]);
+    match read_frames(&bytes) {
+        Err(RecordError::Wire { topic, .. }) => assert_eq!(topic, "/vref/wire/human/gesture"),
+        other => panic!("{other:?}"),
+    }
+    // A file cut short is an MCAP error, not a panic.
+    let whole = written(&[(WireChannel::Gesture, to_bytes(&ray()))]);
+    assert!(read_frames(&whole[..whole.len() / 2]).is_err());
+}
+
+#[test]
+fn vref_recordings_are_read_by_their_magic_too() {
+    let mut w = RecordingWriter::new(Vec::new()).unwrap();
+    let frame = Frame::Gesture(vref_record::RecordedRay::from_wire(&ray()));
+    w.write(&frame).unwrap();
+    let bytes = w.finish().unwrap();
+    assert_eq!(read_frames(&bytes).unwrap(), vec![frame]);
+    assert!(matches!(
+        read_frames(b"neither"),
+        Err(RecordError::BadMagic)
+    ));
+}
+
+/// An MCAP file, written with the `mcap` crate's writer, holding the raw
+/// wire channels and a JSON channel that a replay must skip: each message
+/// is followed by a JSON one.
+fn written(messages: &[(WireChannel, Vec<u8>)]) -> Vec<u8> {
+    let mut cursor = Cursor::new(Vec::new());
+    {
+        let mut writer = mcap::Writer::new(&mut cursor).unwrap();
+        let mut ids = BTreeMap::new();
+        for c in WireChannel::ALL {
+            let schema = writer
+                .add_schema(c.schema_name(), WIRE_SCHEMA_ENCODING, c.layout().as_bytes())
+                .unwrap();
+            let id = writer
+                .add_channel(schema, c.topic(), WIRE_ENCODING, &BTreeMap::new())
+                .unwrap();
+            ids.insert(c.topic(), id);
+        }
+        let json = writer
+            .add_channel(0, "/vref/answer", "json", &BTreeMap::new())
+            .unwrap();
+        let mut sequence = 0u32;
+        for (channel, data) in messages {
+            for (id, data) in [
+                (ids[channel.topic()], data.as_slice()),
+                (json, b"{}".as_slice()),
+            ] {
+                sequence += 1;
+                let header = mcap::records::MessageHeader {
+                    channel_id: id,
+                    sequence,
+                    log_time: u64::from(sequence),
+                    publish_time: u64::from(sequence),
+                };
+                writer.write_to_known_channel(&header, data).unwrap();
+            }
+        }
+        writer.finish().unwrap();
+    }
+    cursor.into_inner()
+}
