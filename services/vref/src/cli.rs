@@ -183,6 +183,40 @@ pub enum ImportCommand {
     /// CMU House landmarks (FGM layout: label/, adj/, scf/): human view =
     /// frame k, robot view = frame k + gap, positions (x, y, 0) in pixels.
     CmuHouse(CmuHouseArgs),
+    /// A BOP dataset (RGB-D images, instance masks, ground-truth poses):
+    /// one scene pair per scene, image --robot-image the robot's view,
+    /// --human-image the headset's, objects measured by the perception
+    /// front end ([perception] of the configuration), ground truth from
+    /// the instance index (pairs where both views measured the object).
+    /// A scene that cannot be read is skipped with a warning.
+    Bop(BopArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct BopArgs {
+    /// Dataset folder (holding SPLIT/SCENE/ folders); scene names are its
+    /// name and the scene id, e.g. table/000003.
+    pub dir: PathBuf,
+    /// The split to read.
+    #[arg(long, value_name = "NAME", default_value = "test")]
+    pub split: String,
+    /// Image id of the robot's view in every scene.
+    #[arg(long, value_name = "ID", default_value_t = 0)]
+    pub robot_image: u32,
+    /// Image id of the headset's view in every scene.
+    #[arg(long, value_name = "ID", default_value_t = 1)]
+    pub human_image: u32,
+    /// Skip masks with fewer pixels or depth readings (default:
+    /// [perception] min_pixels).
+    #[arg(long, value_name = "N")]
+    pub min_pixels: Option<usize>,
+    /// Output dataset file, written whole or not at all (default: stdout).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Configuration file (default: $VREF_CONFIG, else config/vref.toml if
+    /// present, else built-in defaults).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -38,6 +38,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Eval(args) => eval::run(&args),
         Command::Import(ImportCommand::CmuHouse(args)) => import::cmu_house(&args),
+        Command::Import(ImportCommand::Bop(args)) => import::bop(&args),
         Command::Config(ConfigCommand::Check(args)) => config_cmd::check(&args),
         Command::Scenes(args) => scenes::run(&args),
         Command::Viz(args) => viz::run(&args),
