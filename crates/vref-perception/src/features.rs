@@ -31,6 +31,11 @@ const ORIENTATIONS: usize = 9;
 const GREY_SATURATION: [f32; 2] = [0.15, 0.35];
 /// Brightness below which hue means nothing (sensor noise dominates).
 const DARK_VALUE: [f32; 2] = [0.04, 0.12];
+/// Pixels of a mask the colour histogram needs at most: a large mask is
+/// sampled on a regular grid, which keeps the histogram's shape (a
+/// histogram of a thousand samples is as good as one of all of them) and
+/// bounds the work per object.
+const COLOUR_SAMPLES: usize = 1024;
 
 /// A mask's bounding box, pixels, inclusive of its first and exclusive of
 /// its last row and column.
@@ -60,11 +65,12 @@ pub(crate) struct Patch<'a> {
     pub bbox: BoundingBox,
 }
 
-/// The feature of `patch` into `out`.
-pub(crate) fn describe(patch: &Patch<'_>, out: &mut [f32; FEATURE_DIM]) {
+/// The feature of `patch`, whose mask has `area` pixels, into `out`.
+pub(crate) fn describe(patch: &Patch<'_>, area: usize, out: &mut [f32; FEATURE_DIM]) {
     out.fill(0.0);
     let (colour, shape) = out.split_at_mut(COLOUR_DIM);
-    let mean_grey = colour_histogram(patch, colour);
+    let stride = ((area as f64 / COLOUR_SAMPLES as f64).sqrt().ceil() as usize).max(1);
+    let mean_grey = colour_histogram(patch, stride, colour);
     gradient_histogram(patch, mean_grey, shape);
     normalise(colour);
     normalise(shape);
@@ -129,14 +135,15 @@ fn hsv(r: f32, g: f32, b: f32) -> (f32, f32, f32) {
     (hue, chroma / max, max)
 }
 
-/// The colour block (unnormalised); returns the mask's mean grey.
-fn colour_histogram(patch: &Patch<'_>, hist: &mut [f32]) -> f32 {
+/// The colour block (unnormalised) from the mask's pixels on a grid of
+/// stride `stride`; returns the mask's mean grey.
+fn colour_histogram(patch: &Patch<'_>, stride: usize, hist: &mut [f32]) -> f32 {
     let bbox = patch.bbox;
     let (mut grey_sum, mut count) = (0.0f32, 0u32);
-    for v in bbox.v0..bbox.v1 {
-        let row = v as usize * patch.width;
-        for u in bbox.u0..bbox.u1 {
-            let i = row + u as usize;
+    for v in (bbox.v0 as usize..bbox.v1 as usize).step_by(stride) {
+        let row = v * patch.width;
+        for u in (bbox.u0 as usize..bbox.u1 as usize).step_by(stride) {
+            let i = row + u;
             if patch.mask[i] == 0 {
                 continue;
             }
@@ -210,8 +217,9 @@ fn gradient_histogram(patch: &Patch<'_>, mean_grey: f32, hist: &mut [f32]) {
 
 /// The patch's grey values on a GRID x GRID grid over its box: the mean
 /// of the pixels each grid cell covers (every pixel of the box belongs to
-/// exactly one cell), or the pixel at the cell's centre where the box is
-/// smaller than the grid.
+/// exactly one cell; in boxes over twice the grid, every `stride`-th
+/// pixel, at least two per cell and direction), or the pixel at the
+/// cell's centre where the box is smaller than the grid.
 fn resample(patch: &Patch<'_>, mean_grey: f32) -> [f32; GRID * GRID] {
     let bbox = patch.bbox;
     let (w, h) = (bbox.width() as usize, bbox.height() as usize);
@@ -225,9 +233,10 @@ fn resample(patch: &Patch<'_>, mean_grey: f32) -> [f32; GRID * GRID] {
     };
     let mut sum = [0.0f32; GRID * GRID];
     let mut count = [0u32; GRID * GRID];
-    for v in 0..h {
+    let stride = (w.min(h) / (2 * GRID)).max(1);
+    for v in (0..h).step_by(stride) {
         let gy = v * GRID / h;
-        for u in 0..w {
+        for u in (0..w).step_by(stride) {
             let cell = gy * GRID + u * GRID / w;
             sum[cell] += grey(u, v);
             count[cell] += 1;

@@ -141,7 +141,7 @@ impl FrontEnd {
             width: width as usize,
             bbox,
         };
-        describe(&patch, &mut feature);
+        describe(&patch, area, &mut feature);
         out.push(Detection {
             id: mask.id,
             position,
@@ -226,6 +226,19 @@ fn median(buffer: &mut Vec<u16>, values: impl Iterator<Item = u16>) -> Option<u1
     Some(*buffer.select_nth_unstable(mid).1)
 }
 
+/// Whether a row of a mask is all zero: most rows of a mask are, so this
+/// is one pass that ORs 64 bytes at a time (which vectorises) instead of
+/// a test per byte.
+fn is_empty(row: &[u8]) -> bool {
+    let mut chunks = row.chunks_exact(64);
+    for chunk in &mut chunks {
+        if chunk.iter().fold(0u8, |a, &b| a | b) != 0 {
+            return false;
+        }
+    }
+    chunks.remainder().iter().all(|&b| b == 0)
+}
+
 /// The box of a mask's non-zero pixels and their count; `None` when
 /// there are none.
 fn bounding_box(m: &[u8], width: usize, height: usize) -> Option<(BoundingBox, usize)> {
@@ -233,8 +246,7 @@ fn bounding_box(m: &[u8], width: usize, height: usize) -> Option<(BoundingBox, u
     let mut area = 0;
     for v in 0..height {
         let row = &m[v * width..(v + 1) * width];
-        // Most rows of a mask are empty; `any` is one vectorised pass.
-        if !row.iter().any(|&b| b != 0) {
+        if is_empty(row) {
             continue;
         }
         let first = row.iter().position(|&b| b != 0).unwrap_or(0);

@@ -399,6 +399,11 @@ pub enum BenchCommand {
     /// of `vref bench solver --json` and of tools/pygmtools_bench.py
     /// --json: one curve per method and tier, one per pygmtools method.
     Plot(BenchPlotArgs),
+    /// Time the perception front end per image on BOP datasets (each
+    /// scene's robot and headset image, decoded once, measured --repeats
+    /// times): median and p99 of the front end alone, and of decoding one
+    /// image's files (colour, depth, every mask) apart.
+    Perception(BenchPerceptionArgs),
     /// The echo server of `vref bench query` (started by it): answers
     /// every reference query at once, under the namespace
     /// `<[ipc] namespace>/bench-echo`.
@@ -425,6 +430,33 @@ pub struct BenchQueryArgs {
     /// Configuration file ([matcher] method, [feeds] rates and preset);
     /// the services run under their own iceoryx2 root path and prefix
     /// whatever its [ipc] says.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchPerceptionArgs {
+    /// A BOP dataset folder, or a folder of them (one result each).
+    #[arg(long, value_name = "DIR")]
+    pub dataset: PathBuf,
+    /// The split to read.
+    #[arg(long, value_name = "NAME", default_value = "test")]
+    pub split: String,
+    /// Image id of the robot's view.
+    #[arg(long, value_name = "ID", default_value_t = 0)]
+    pub robot_image: u32,
+    /// Image id of the headset's view.
+    #[arg(long, value_name = "ID", default_value_t = 1)]
+    pub human_image: u32,
+    /// Timed passes over every image.
+    #[arg(long, value_name = "N", default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..))]
+    pub repeats: u64,
+    /// Print one JSON object per dataset: dataset, images, objects,
+    /// max_masks, median_us, p99_us, decode_median_us, decode_p99_us,
+    /// repeats.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file ([perception] settings).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
 }
