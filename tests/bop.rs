@@ -105,3 +105,25 @@ fn a_broken_scene_is_skipped_with_a_warning_and_the_rest_imported() {
     let run = vref(&["import", "bop", empty.to_str().unwrap()], LIMIT);
     assert_eq!(run.code, Some(2), "{}", run.stderr);
 }
+
+/// The live system on BOP scenes: both feeds measure the shared table
+/// scenes, the matcher answers pointing rays, the demo checks each answer
+/// against the ground truth. Real processes under the demo's own iceoryx2
+/// root path and prefix; every wait is bounded.
+#[test]
+fn the_live_demo_on_bop_scenes_answers_pointing_right() {
+    let table = repo_root().join("../shared/data/bop/table");
+    let source = format!("bop:{}", table.display());
+    let run = vref(
+        &["demo", "--source", &source, "--duration", "6s", "--json"],
+        Duration::from_secs(120),
+    )
+    .ok();
+    let summary: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let queries = summary["queries"].as_u64().unwrap();
+    assert!(queries >= 10, "{summary}");
+    assert_eq!(summary["answered"], queries, "{summary}");
+    assert_eq!(summary["errors"], 0, "{summary}");
+    let accuracy = summary["accuracy"].as_f64().unwrap();
+    assert!(accuracy >= 0.8, "{summary}");
+}

@@ -37,8 +37,9 @@ pub enum Command {
     Viz(VizArgs),
     /// Ask the running matcher which robot object a person means.
     Query(QueryArgs),
-    /// Run the three services with synthetic feeds, point at known objects,
-    /// check every answer against the truth, and print a summary.
+    /// Run the three services with synthetic feeds (or BOP scenes: --source
+    /// bop:DIR), point at known objects, check every answer against the
+    /// truth, and print a summary.
     Demo(DemoArgs),
     /// Run the three services under load for a while (synthetic feeds at
     /// --feed-rate, queries at --query-rate) and report what was lost:
@@ -321,6 +322,16 @@ pub struct RecordArgs {
 
 #[derive(Debug, Args)]
 pub struct DemoArgs {
+    /// What the feeds show: `synthetic` (the [feeds] world) or `bop:DIR`
+    /// (the scenes of a BOP dataset folder or of a folder of them, measured
+    /// by the perception front end; the person points from the headset at
+    /// one object both views measured, another every half scene; no query
+    /// in a target's first 0.5 s, while the new scene's snapshots arrive).
+    #[arg(long, value_name = "SOURCE", default_value = "synthetic")]
+    pub source: vref_feed::SourceSpec,
+    /// BOP source: seconds each scene is shown.
+    #[arg(long, value_name = "SECONDS", default_value_t = 5.0, value_parser = positive_seconds)]
+    pub hold_s: f64,
     /// How long to query after the services are ready, e.g. 20s.
     #[arg(long, value_name = "D", default_value = "20s", value_parser = crate::duration::parse_duration)]
     pub duration: std::time::Duration,
@@ -367,6 +378,13 @@ pub struct SoakArgs {
     /// iceoryx2 root path and prefix whatever its [ipc] says.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a positive number of seconds")),
+    }
 }
 
 fn positive_rate(s: &str) -> Result<f64, String> {
