@@ -127,3 +127,38 @@ fn the_live_demo_on_bop_scenes_answers_pointing_right() {
     let accuracy = summary["accuracy"].as_f64().unwrap();
     assert!(accuracy >= 0.8, "{summary}");
 }
+
+#[test]
+fn viz_draws_a_bop_scene_over_its_two_images() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.png");
+    let table = repo_root().join("../shared/data/bop/table");
+    let args = |scene: &str| {
+        vec![
+            "viz".to_owned(),
+            "--bop".to_owned(),
+            table.display().to_string(),
+            "--scene".to_owned(),
+            scene.to_owned(),
+            "--method".to_owned(),
+            "rigid".to_owned(),
+            "--out".to_owned(),
+            out.display().to_string(),
+        ]
+    };
+    let ok = args("table/000003");
+    vref(&ok.iter().map(String::as_str).collect::<Vec<_>>(), LIMIT).ok();
+    let bytes = std::fs::read(&out).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    // IHDR: width and height, big-endian, after the 16-byte header.
+    let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+    assert_eq!((width, height), (640 + 16 + 640, 480 + 74));
+    let unknown = args("table/3");
+    let run = vref(
+        &unknown.iter().map(String::as_str).collect::<Vec<_>>(),
+        LIMIT,
+    );
+    assert_eq!(run.code, Some(2));
+    assert!(run.stderr.contains("table/000000"), "{}", run.stderr);
+}

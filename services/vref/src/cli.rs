@@ -32,8 +32,8 @@ pub enum Command {
     /// camera and the headset, as a dataset file with ground truth.
     Scenes(ScenesArgs),
     /// Draw one scene's predicted correspondences as a PNG picture: both
-    /// views side by side, green lines where the match is right, dashed
-    /// red where it is wrong.
+    /// views side by side (or, with --bop, both cameras' images), green
+    /// lines where the match is right, red where it is wrong.
     Viz(VizArgs),
     /// Ask the running matcher which robot object a person means.
     Query(QueryArgs),
@@ -121,10 +121,18 @@ pub struct EvalArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["dataset", "bop"])))]
 pub struct VizArgs {
     /// Dataset file (JSON Lines, one scene pair per line).
     #[arg(long, value_name = "FILE.jsonl")]
-    pub dataset: PathBuf,
+    pub dataset: Option<PathBuf>,
+    /// Instead of a dataset: a BOP dataset folder. The scene (named as
+    /// `vref import bop` names it, e.g. table/000003) is measured by the
+    /// perception front end and drawn over its two images (image 0 the
+    /// robot's, image 1 the headset's): masks outlined, right pairs green,
+    /// wrong red, objects without a partner crossed.
+    #[arg(long, value_name = "DIR")]
+    pub bop: Option<PathBuf>,
     /// Name of the scene to draw.
     #[arg(long, value_name = "NAME")]
     pub scene: String,
