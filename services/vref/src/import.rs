@@ -43,29 +43,29 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
         perception,
     };
     let import = BopImport::run(&dataset, &options);
-    for (scene, error) in &import.failed {
-        tracing::warn!("scene {scene} skipped: {}", chain(error));
+    let skipped = import.skipped();
+    let BopImport { scenes, failed } = import;
+    let failures = failed.len();
+    for (scene, error) in failed {
+        tracing::warn!("scene {scene} skipped: {:#}", anyhow::Error::new(error));
     }
     let limits = config.scene.limits();
-    let pairs = import
-        .scenes
+    let pairs = scenes
         .iter()
         .map(|s| s.pair(&limits))
         .collect::<Result<Vec<ScenePair>, _>>()
         .bad_input()?;
     if pairs.is_empty() {
         return Err(anyhow!(
-            "{}: none of its {} scenes could be imported",
+            "{}: none of its {failures} scenes could be imported",
             args.dir.display(),
-            import.failed.len()
         ))
         .bad_input();
     }
     write_dataset(&pairs, args.out.as_deref())?;
-    let skipped = import.skipped();
     tracing::warn!(
         scenes = pairs.len(),
-        scenes_skipped = import.failed.len(),
+        scenes_skipped = failures,
         masks_too_small = skipped.too_small,
         masks_without_depth = skipped.no_depth,
         "imported {}",
@@ -100,15 +100,4 @@ fn write_all<W: Write>(pairs: &[ScenePair], output: W) -> anyhow::Result<()> {
     }
     writer.finish()?;
     Ok(())
-}
-
-/// An error and its causes on one line, as `{:#}` prints an anyhow error.
-fn chain(error: &dyn std::error::Error) -> String {
-    let mut text = error.to_string();
-    let mut source = error.source();
-    while let Some(cause) = source {
-        text = format!("{text}: {cause}");
-        source = cause.source();
-    }
-    text
 }
