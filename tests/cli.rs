@@ -27,6 +27,9 @@ fn every_command_has_help() {
         vec!["eval", "--help"],
         vec!["import", "--help"],
         vec!["import", "cmu-house", "--help"],
+        vec!["import", "bop", "--help"],
+        vec!["bench", "perception", "--help"],
+        vec!["viz", "--help"],
         vec!["config", "check", "--help"],
     ] {
         let run = vref(&args, LIMIT).ok();

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 use vref_match::{MatchError, Params};
+use vref_perception::{PerceptionSettings, SettingsError};
 use vref_reference::MatcherSettings;
 use vref_scene::Limits;
 use vref_wire::ipc::IpcSettings;
@@ -33,6 +34,12 @@ pub enum ConfigError {
         #[source]
         source: MatchError,
     },
+    #[error("{path}: [perception]")]
+    Perception {
+        path: PathBuf,
+        #[source]
+        source: SettingsError,
+    },
     #[error("{path}: [scene] {message}")]
     Scene { path: PathBuf, message: String },
     #[error("{path}: [{section}] {message}")]
@@ -52,6 +59,7 @@ pub struct Config {
     pub matcher: MatcherSettings,
     pub ipc: IpcSettings,
     pub feeds: FeedSettings,
+    pub perception: PerceptionSettings,
 }
 
 /// The `[feeds]` section: how the synthetic feeds publish.
@@ -155,6 +163,12 @@ impl Config {
         self.matching
             .validate()
             .map_err(|source| ConfigError::Matching {
+                path: path.to_owned(),
+                source,
+            })?;
+        self.perception
+            .validate()
+            .map_err(|source| ConfigError::Perception {
                 path: path.to_owned(),
                 source,
             })?;

@@ -81,6 +81,19 @@ fn bad_values_are_errors_naming_the_parameter() {
             "[matching.rigid]\nlateral_factor = 0.0\n",
             "rigid.lateral_factor",
         ),
+        ("[perception]\nmin_pixels = 0\n", "perception.min_pixels"),
+        (
+            "[perception]\ncentre_offset = -1.0\n",
+            "perception.centre_offset",
+        ),
+        (
+            "[perception.robot]\npixel = { a = 0.0, b = 0.0, c = -0.1 }\nsystematic = { a = 0.0, b = 0.005, c = 0.0 }\n",
+            "perception.robot.pixel",
+        ),
+        (
+            "[perception.human]\npixel = { a = 0.0, b = 0.0, c = 0.02 }\nsystematic = { a = 0.0, b = nan, c = 0.0 }\n",
+            "perception.human.systematic",
+        ),
     ];
     for (text, name) in cases {
         let err = Config::parse(text, Path::new("x.toml")).unwrap_err();

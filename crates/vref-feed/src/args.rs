@@ -12,8 +12,12 @@ pub struct FeedArgs {
     pub config: Option<PathBuf>,
     /// What to publish: `synthetic` (a live world from the [feeds] preset
     /// and seed), `dataset:FILE` (the scene pairs of a JSON Lines dataset
-    /// in turn, each for --hold-s seconds) or `recording:FILE` (a vref
-    /// recording, MCAP or .vrec, replayed with its own timing, looping).
+    /// in turn, each for --hold-s seconds), `recording:FILE` (a vref
+    /// recording, MCAP or .vrec, replayed with its own timing, looping) or `bop:DIR` (the
+    /// scenes of a BOP dataset folder, or of a folder of them, measured by
+    /// the perception front end: image 0 is the robot's view, image 1 the
+    /// headset's; each scene for --hold-s seconds, the person pointing at
+    /// one object both views measured, another every half scene).
     #[arg(long, value_name = "SOURCE", default_value = "synthetic")]
     pub source: SourceSpec,
     /// Snapshots per second (default: [feeds] snapshot_rate_hz).
@@ -25,12 +29,12 @@ pub struct FeedArgs {
     /// and view angles. Both feeds must be given the same.
     #[arg(long, value_name = "N")]
     pub objects: Option<usize>,
-    /// Synthetic and dataset sources: the time origin of the world and of
+    /// Synthetic, dataset and BOP sources: the time origin of the world and of
     /// the scene cycle, nanoseconds since the Unix epoch. Both feeds must
     /// be given the same.
     #[arg(long, value_name = "NS", default_value_t = 0)]
     pub epoch_ns: u64,
-    /// Dataset source: seconds each scene pair is shown.
+    /// Dataset and BOP sources: seconds each scene pair is shown.
     #[arg(
         long,
         value_name = "SECONDS",
@@ -46,6 +50,7 @@ pub enum SourceSpec {
     Synthetic,
     Dataset(PathBuf),
     Recording(PathBuf),
+    Bop(PathBuf),
 }
 
 impl FromStr for SourceSpec {
@@ -64,6 +69,7 @@ impl FromStr for SourceSpec {
         match kind {
             "dataset" => Ok(SourceSpec::Dataset(PathBuf::from(file))),
             "recording" => Ok(SourceSpec::Recording(PathBuf::from(file))),
+            "bop" => Ok(SourceSpec::Bop(PathBuf::from(file))),
             _ => Err(SetupError::UnknownSource(s.to_owned())),
         }
     }

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use vref_scene::{Limits, Side, read_dataset_file};
+use vref_scene::{Limits, ScenePair, Side, read_dataset_file};
 use vref_wire::ObjectEntry;
 
 use crate::entries::graph_entries;
@@ -38,6 +38,19 @@ impl DatasetSource {
                 path: path.to_owned(),
             });
         }
+        let origin = format!("dataset {}", path.display());
+        Self::from_pairs(&origin, &pairs, side, hold_s, epoch_ns, rate_hz)
+    }
+
+    /// `pairs` (not empty) in turn; `origin` names them in errors.
+    pub(crate) fn from_pairs(
+        origin: &str,
+        pairs: &[ScenePair],
+        side: Side,
+        hold_s: f64,
+        epoch_ns: u64,
+        rate_hz: f64,
+    ) -> Result<Self, SetupError> {
         let views = pairs
             .iter()
             .map(|pair| {
@@ -48,7 +61,7 @@ impl DatasetSource {
                 graph_entries(graph)
                     .map(|entries| (graph.feature_dim(), entries))
                     .map_err(|source| SetupError::Entry {
-                        origin: format!("dataset {}, scene {:?}", path.display(), pair.name),
+                        origin: format!("{origin}, scene {:?}", pair.name),
                         source,
                     })
             })
@@ -62,6 +75,11 @@ impl DatasetSource {
 
     pub(crate) fn pairs(&self) -> usize {
         self.views.len()
+    }
+
+    /// When the next snapshot is due.
+    pub(crate) fn peek_at(&self, now_ns: u64) -> u64 {
+        self.snapshots.peek(now_ns).at_ns
     }
 
     pub(crate) fn next(&mut self, now_ns: u64) -> Due<'_> {

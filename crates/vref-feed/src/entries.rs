@@ -45,13 +45,13 @@ pub fn check_dim(dim: usize) -> Result<usize, EntryError> {
     Ok(dim)
 }
 
-/// A graph's objects, with zero uncertainty (a graph carries none).
+/// A graph's objects, with their stated position errors.
 pub fn graph_entries(graph: &SceneGraph) -> Result<Vec<ObjectEntry>, EntryError> {
     check_dim(graph.feature_dim())?;
     graph
         .objects()
         .iter()
-        .map(|o| entry(o.id, o.position.coords.into(), [0.0; 3], &o.feature))
+        .map(|o| entry(o.id, o.position.coords.into(), o.position_sigma, &o.feature))
         .collect()
 }
 

@@ -6,7 +6,7 @@ use vref_wire::ipc::IpcError;
 /// was given (the services exit with code 2).
 #[derive(Debug, thiserror::Error)]
 pub enum SetupError {
-    #[error("unknown source {0:?}: expected synthetic, dataset:FILE or recording:FILE")]
+    #[error("unknown source {0:?}: expected synthetic, dataset:FILE, recording:FILE or bop:DIR")]
     UnknownSource(String),
     #[error("source {0:?} names no file")]
     NoFile(String),
@@ -24,6 +24,14 @@ pub enum SetupError {
     },
     #[error("dataset {path} holds no scene pairs")]
     EmptyDataset { path: PathBuf },
+    #[error("BOP data {path}")]
+    Bop {
+        path: PathBuf,
+        #[source]
+        source: vref_import::ImportError,
+    },
+    #[error("BOP data {path}: no scene could be measured")]
+    EmptyBop { path: PathBuf },
     #[error("cannot open recording {path}")]
     OpenRecording {
         path: PathBuf,

@@ -7,6 +7,7 @@ use vref_config::Config;
 use vref_wire::ipc::{GesturePublisher, IpcSettings, Node, SnapshotPublisher, create_node, now_ns};
 
 use crate::args::{FeedArgs, SourceSpec};
+use crate::bop::{BopSource, BopWorld};
 use crate::dataset::DatasetSource;
 use crate::entries::check_dim;
 use crate::replay::Replay;
@@ -32,6 +33,7 @@ enum Source {
     // Boxed: a live world is large, and a feed holds one source for good.
     Synthetic(Box<Synthetic>),
     Dataset(DatasetSource),
+    Bop(Box<BopSource>),
     Replay(Replay),
 }
 
@@ -90,6 +92,17 @@ impl Feed {
                 );
                 (Source::Dataset(dataset), description)
             }
+            SourceSpec::Bop(path) => {
+                let hold_s = positive("--hold-s", args.hold_s)?;
+                let world = BopWorld::load(path, config.perception, config.scene.limits(), hold_s)?;
+                let bop = BopSource::new(world, side, args.epoch_ns, rate_hz, gesture_rate_hz)?;
+                let description = format!(
+                    "BOP {} ({} scenes, {hold_s} s each)",
+                    path.display(),
+                    bop.scenes()
+                );
+                (Source::Bop(Box::new(bop)), description)
+            }
             SourceSpec::Recording(path) => {
                 let gap_ns = (1e9 / rate_hz).round() as u64;
                 let replay = Replay::load(path, side, role.points(), gap_ns)?;
@@ -128,7 +141,7 @@ impl Feed {
     /// Pointing rays per second, for a synthetic gesture feed.
     pub fn gesture_rate_hz(&self) -> Option<f64> {
         match self.source {
-            Source::Synthetic(_) => self.gesture_rate_hz,
+            Source::Synthetic(_) | Source::Bop(_) => self.gesture_rate_hz,
             _ => None,
         }
     }
@@ -208,6 +221,7 @@ impl Source {
         match self {
             Source::Synthetic(s) => s.next(now_ns),
             Source::Dataset(d) => Ok(d.next(now_ns)),
+            Source::Bop(b) => Ok(b.next(now_ns)),
             Source::Replay(r) => Ok(r.next(now_ns)),
         }
     }

@@ -13,12 +13,16 @@
 //!   while, chosen by the time since the epoch (so the two feeds agree).
 //! - **recording**: a vref recording's frames of this feed, with their
 //!   original spacing, looping.
+//! - **bop**: the scenes of a BOP dataset measured by the perception
+//!   front end, shown in turn like a dataset, with pointing rays from the
+//!   headset camera at objects both views measured ([`BopWorld`]).
 //!
 //! [`Feed::prepare`] checks everything that can be wrong before shared
 //! memory is touched ([`SetupError`]); [`Feed::run`] publishes until a
 //! termination request ([`RunError`] if IPC fails).
 
 mod args;
+mod bop;
 mod dataset;
 pub mod entries;
 mod error;
@@ -31,6 +35,7 @@ mod synthetic;
 mod ticks;
 
 pub use args::{FeedArgs, SourceSpec};
+pub use bop::{BopGesture, BopWorld};
 pub use error::{EntryError, RunError, SetupError};
 pub use feed::{Feed, Published};
 pub use publication::{Due, Publication, Ray, Target};

@@ -27,6 +27,35 @@ pub enum ImportError {
     GapTooLarge { gap: usize, frames: usize },
     #[error("cannot keep {keep} landmarks: frames have {landmarks} (and at least 1 must be kept)")]
     BadKeep { keep: usize, landmarks: usize },
+    #[error("{path}")]
+    Json {
+        path: PathBuf,
+        #[source]
+        source: serde_json::Error,
+    },
+    #[error("{dir}: no scene folders found")]
+    NoScenes { dir: PathBuf },
+    #[error("{path}: no entry for image {image}")]
+    MissingImage { path: PathBuf, image: u32 },
+    #[error("{path}, image {image}")]
+    Frame {
+        path: PathBuf,
+        image: u32,
+        #[source]
+        source: vref_perception::FrameError,
+    },
+    #[error(transparent)]
+    Load(#[from] vref_perception::LoadError),
+    #[error(
+        "{path} is {}x{} pixels, but the colour image {reference} is {}x{}",
+        found.0, found.1, expected.0, expected.1
+    )]
+    ImageSize {
+        path: PathBuf,
+        found: (u32, u32),
+        reference: PathBuf,
+        expected: (u32, u32),
+    },
     #[error("scene {name}")]
     Invalid {
         name: String,

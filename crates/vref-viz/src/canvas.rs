@@ -72,6 +72,36 @@ pub(crate) fn render_png(
     encode_png(&pixels, size)
 }
 
+/// Draws with `draw` on `pixels` (RGB, `size`: a photograph, say) and
+/// encodes it as an RGB PNG (a photograph has far more than 256 colours).
+pub(crate) fn render_png_over(
+    size: Size,
+    mut pixels: Vec<u8>,
+    draw: impl FnOnce(&Area<'_>) -> Result<(), RenderError>,
+) -> Result<Vec<u8>, RenderError> {
+    size.check()?;
+    font::ensure_registered()?;
+    {
+        let backend = BitMapBackend::<RGBPixel>::with_buffer_and_format(
+            &mut pixels,
+            (size.width, size.height),
+        )
+        .map_err(|e| RenderError::Draw(e.to_string()))?;
+        let root = backend.into_drawing_area();
+        draw(&root)?;
+        root.present().map_err(drawing)?;
+    }
+    let mut png = Vec::new();
+    let mut encoder = png::Encoder::new(&mut png, size.width, size.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::High);
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(&pixels)?;
+    writer.finish()?;
+    Ok(png)
+}
+
 /// Writes PNG bytes to `out`.
 pub(crate) fn write(out: &Path, png: &[u8]) -> Result<(), RenderError> {
     std::fs::write(out, png).map_err(|source| RenderError::Write {

@@ -7,6 +7,7 @@
 mod canvas;
 mod error;
 mod font;
+mod image_match;
 mod line_plot;
 mod lookup;
 mod match_picture;
@@ -15,6 +16,7 @@ mod quantize;
 
 pub use canvas::Size;
 pub use error::{RenderError, SceneLookupError};
+pub use image_match::{ImageMatchPicture, ImageObject, ViewImage};
 pub use line_plot::{
     Axes, Scale, line_plot, line_plot_scaled, render_line_plot, render_line_plot_scaled,
 };

@@ -139,19 +139,19 @@ impl<'a> MatchPicture<'a> {
 
 /// What the prediction got right and wrong, by object index.
 #[derive(Debug)]
-struct Outcome {
-    human_to_robot: Vec<Option<usize>>,
+pub(crate) struct Outcome {
+    pub(crate) human_to_robot: Vec<Option<usize>>,
     /// Per human object: does the prediction agree with the ground truth
     /// (both "no partner" counts as agreement, as the accuracy metric has it)?
-    right: Vec<bool>,
-    human_has_partner: Vec<bool>,
-    robot_matched: Vec<bool>,
-    robot_has_partner: Vec<bool>,
-    accuracy: f64,
+    pub(crate) right: Vec<bool>,
+    pub(crate) human_has_partner: Vec<bool>,
+    pub(crate) robot_matched: Vec<bool>,
+    pub(crate) robot_has_partner: Vec<bool>,
+    pub(crate) accuracy: f64,
 }
 
 impl Outcome {
-    fn new(pair: &ScenePair, predicted: &[(u64, u64)]) -> Result<Self, RenderError> {
+    pub(crate) fn new(pair: &ScenePair, predicted: &[(u64, u64)]) -> Result<Self, RenderError> {
         let (human, robot) = (&pair.human, &pair.robot);
         let mut human_to_robot = vec![None; human.len()];
         let mut robot_matched = vec![false; robot.len()];

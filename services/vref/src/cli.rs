@@ -32,13 +32,14 @@ pub enum Command {
     /// camera and the headset, as a dataset file with ground truth.
     Scenes(ScenesArgs),
     /// Draw one scene's predicted correspondences as a PNG picture: both
-    /// views side by side, green lines where the match is right, dashed
-    /// red where it is wrong.
+    /// views side by side (or, with --bop, both cameras' images), green
+    /// lines where the match is right, red where it is wrong.
     Viz(VizArgs),
     /// Ask the running matcher which robot object a person means.
     Query(QueryArgs),
-    /// Run the three services with synthetic feeds, point at known objects,
-    /// check every answer against the truth, and print a summary.
+    /// Run the three services with synthetic feeds (or BOP scenes: --source
+    /// bop:DIR), point at known objects, check every answer against the
+    /// truth, and print a summary.
     Demo(DemoArgs),
     /// Run the three services under load for a while (synthetic feeds at
     /// --feed-rate, queries at --query-rate) and report what was lost:
@@ -130,10 +131,18 @@ pub struct EvalArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["dataset", "bop"])))]
 pub struct VizArgs {
     /// Dataset file (JSON Lines, one scene pair per line).
     #[arg(long, value_name = "FILE.jsonl")]
-    pub dataset: PathBuf,
+    pub dataset: Option<PathBuf>,
+    /// Instead of a dataset: a BOP dataset folder. The scene (named as
+    /// `vref import bop` names it, e.g. table/000003) is measured by the
+    /// perception front end and drawn over its two images (image 0 the
+    /// robot's, image 1 the headset's): masks outlined, right pairs green,
+    /// wrong red, objects without a partner crossed.
+    #[arg(long, value_name = "DIR")]
+    pub bop: Option<PathBuf>,
     /// Name of the scene to draw.
     #[arg(long, value_name = "NAME")]
     pub scene: String,
@@ -193,6 +202,40 @@ pub enum ImportCommand {
     /// CMU House landmarks (FGM layout: label/, adj/, scf/): human view =
     /// frame k, robot view = frame k + gap, positions (x, y, 0) in pixels.
     CmuHouse(CmuHouseArgs),
+    /// A BOP dataset (RGB-D images, instance masks, ground-truth poses):
+    /// one scene pair per scene, image --robot-image the robot's view,
+    /// --human-image the headset's, objects measured by the perception
+    /// front end ([perception] of the configuration), ground truth from
+    /// the instance index (pairs where both views measured the object).
+    /// A scene that cannot be read is skipped with a warning.
+    Bop(BopArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct BopArgs {
+    /// Dataset folder (holding SPLIT/SCENE/ folders); scene names are its
+    /// name and the scene id, e.g. table/000003.
+    pub dir: PathBuf,
+    /// The split to read.
+    #[arg(long, value_name = "NAME", default_value = "test")]
+    pub split: String,
+    /// Image id of the robot's view in every scene.
+    #[arg(long, value_name = "ID", default_value_t = 0)]
+    pub robot_image: u32,
+    /// Image id of the headset's view in every scene.
+    #[arg(long, value_name = "ID", default_value_t = 1)]
+    pub human_image: u32,
+    /// Skip masks with fewer pixels or depth readings (default:
+    /// [perception] min_pixels).
+    #[arg(long, value_name = "N")]
+    pub min_pixels: Option<usize>,
+    /// Output dataset file, written whole or not at all (default: stdout).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Configuration file (default: $VREF_CONFIG, else config/vref.toml if
+    /// present, else built-in defaults).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]
@@ -303,6 +346,16 @@ pub struct RecordArgs {
 
 #[derive(Debug, Args)]
 pub struct DemoArgs {
+    /// What the feeds show: `synthetic` (the [feeds] world) or `bop:DIR`
+    /// (the scenes of a BOP dataset folder or of a folder of them, measured
+    /// by the perception front end; the person points from the headset at
+    /// one object both views measured, another every half scene; no query
+    /// in a target's first 0.5 s, while the new scene's snapshots arrive).
+    #[arg(long, value_name = "SOURCE", default_value = "synthetic")]
+    pub source: vref_feed::SourceSpec,
+    /// BOP source: seconds each scene is shown.
+    #[arg(long, value_name = "SECONDS", default_value_t = 5.0, value_parser = positive_seconds)]
+    pub hold_s: f64,
     /// How long to query after the services are ready, e.g. 20s.
     #[arg(long, value_name = "D", default_value = "20s", value_parser = crate::duration::parse_duration)]
     pub duration: std::time::Duration,
@@ -386,6 +439,13 @@ fn rate_or_zero(s: &str) -> Result<f64, String> {
     }
 }
 
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a positive number of seconds")),
+    }
+}
+
 fn positive_rate(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 && v <= 1000.0 => Ok(v),
@@ -416,6 +476,11 @@ pub enum BenchCommand {
     /// of `vref bench solver --json` and of tools/pygmtools_bench.py
     /// --json: one curve per method and tier, one per pygmtools method.
     Plot(BenchPlotArgs),
+    /// Time the perception front end per image on BOP datasets (each
+    /// scene's robot and headset image, decoded once, measured --repeats
+    /// times): median and p99 of the front end alone, and of decoding one
+    /// image's files (colour, depth, every mask) apart.
+    Perception(BenchPerceptionArgs),
     /// The echo server of `vref bench query` (started by it): answers
     /// every reference query at once, under the namespace
     /// `<[ipc] namespace>/bench-echo`.
@@ -447,6 +512,33 @@ pub struct BenchQueryArgs {
     /// Configuration file ([matcher] method, [feeds] rates and preset);
     /// the services run under their own iceoryx2 root path and prefix
     /// whatever its [ipc] says.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchPerceptionArgs {
+    /// A BOP dataset folder, or a folder of them (one result each).
+    #[arg(long, value_name = "DIR")]
+    pub dataset: PathBuf,
+    /// The split to read.
+    #[arg(long, value_name = "NAME", default_value = "test")]
+    pub split: String,
+    /// Image id of the robot's view.
+    #[arg(long, value_name = "ID", default_value_t = 0)]
+    pub robot_image: u32,
+    /// Image id of the headset's view.
+    #[arg(long, value_name = "ID", default_value_t = 1)]
+    pub human_image: u32,
+    /// Timed passes over every image.
+    #[arg(long, value_name = "N", default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..))]
+    pub repeats: u64,
+    /// Print one JSON object per dataset: dataset, images, objects,
+    /// max_masks, median_us, p99_us, decode_median_us, decode_p99_us,
+    /// repeats.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file ([perception] settings).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
 }

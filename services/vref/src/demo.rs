@@ -1,11 +1,12 @@
-//! `vref demo`: the three services with synthetic feeds, pointing gestures
-//! at known objects, every answer checked against the world's truth.
+//! `vref demo`: the three services with synthetic feeds (or BOP scenes),
+//! pointing gestures at known objects, every answer checked against the
+//! world's truth.
 
 use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail};
 use vref_config::Config;
-use vref_feed::synthetic_world;
+use vref_feed::{BopWorld, SourceSpec, synthetic_world};
 use vref_scene::Side;
 use vref_sim::{Gesture, LiveWorld};
 use vref_wire::ipc::{ReferenceClient, now_ns};
@@ -20,12 +21,90 @@ use crate::stdout;
 const READY_WITHIN: Duration = Duration::from_secs(30);
 /// One query's time limit.
 const QUERY_TIMEOUT: Duration = Duration::from_secs(1);
+/// BOP source: no query in a slot's first moments, while the feeds'
+/// snapshots of a new scene reach the matcher (one snapshot period at
+/// 30 Hz, and its solve, are well within this).
+const SETTLE_S: f64 = 0.5;
+
+/// What the feeds show, computed here too: the truth the answers are
+/// checked against.
+enum Truth {
+    Synthetic(Box<LiveWorld>),
+    Bop(BopWorld),
+}
+
+/// One pointing gesture and the right answer to it.
+struct Pointing {
+    human_id: u64,
+    origin: [f32; 3],
+    direction: [f32; 3],
+    cone_half_angle: f32,
+    /// The robot object meant, `None` when the robot does not see it.
+    expected: Option<u64>,
+}
+
+impl Truth {
+    /// Where the person points at `t` (seconds since the Unix epoch, the
+    /// feeds' epoch), if anywhere.
+    fn pointing(&self, t: f64) -> Option<Pointing> {
+        match self {
+            Truth::Synthetic(world) => {
+                let g = world.gesture(t)?;
+                let expected = world
+                    .detected(Side::Robot, t)
+                    .contains(&g.target)
+                    .then_some(g.robot_id);
+                Some(Pointing {
+                    human_id: g.human_id,
+                    origin: g.origin.coords.map(|v| v as f32).into(),
+                    direction: g.direction.map(|v| v as f32).into(),
+                    cone_half_angle: g.cone_half_angle as f32,
+                    expected,
+                })
+            }
+            Truth::Bop(world) => {
+                let g = world.gesture(t).filter(|g| t - g.since_s >= SETTLE_S)?;
+                Some(Pointing {
+                    human_id: g.human_id,
+                    origin: g.origin.map(|v| v as f32),
+                    direction: g.direction.map(|v| v as f32),
+                    cone_half_angle: g.cone_half_angle as f32,
+                    expected: Some(g.robot_id),
+                })
+            }
+        }
+    }
+}
 
 pub fn run(args: &DemoArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
-    // The world the feeds publish, computed here too: it is the truth the
-    // answers are checked against.
-    let (_, world) = synthetic_world(&config.feeds, args.objects).bad_input()?;
+    let (world, feed_args) = match &args.source {
+        SourceSpec::Synthetic => {
+            let (_, world) = synthetic_world(&config.feeds, args.objects).bad_input()?;
+            let feed_args = match args.objects {
+                Some(n) => vec!["--objects".to_owned(), n.to_string()],
+                None => Vec::new(),
+            };
+            (Truth::Synthetic(Box::new(world)), feed_args)
+        }
+        SourceSpec::Bop(dir) => {
+            let world = BopWorld::load(dir, config.perception, config.scene.limits(), args.hold_s)
+                .bad_input()?;
+            let feed_args = vec![
+                "--source".to_owned(),
+                format!("bop:{}", dir.display()),
+                "--hold-s".to_owned(),
+                args.hold_s.to_string(),
+            ];
+            (Truth::Bop(world), feed_args)
+        }
+        other => {
+            return Err(anyhow!(
+                "--source {other:?}: the demo runs on synthetic or bop:DIR"
+            ))
+            .bad_input();
+        }
+    };
     // Its own root path and prefix: the demo never meets, or disturbs,
     // services already running on this machine.
     let Isolation {
@@ -36,7 +115,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
     } = prepare(&config, "demo", "vdemo").runtime()?;
 
     let mut services =
-        Services::start_system(&binaries, &config_path, args.objects, dir.path()).runtime()?;
+        Services::start_system_with(&binaries, &config_path, &feed_args, dir.path()).runtime()?;
     let outcome = query_loop(args, &demo_config, &world, &mut services);
     let stopped = services.stop();
     keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
@@ -155,7 +234,7 @@ pub(crate) fn now_s() -> f64 {
 fn query_loop(
     args: &DemoArgs,
     config: &Config,
-    world: &LiveWorld,
+    world: &Truth,
     services: &mut Services,
 ) -> anyhow::Result<Summary> {
     let mut client =
@@ -167,14 +246,11 @@ fn query_loop(
     while Instant::now() < end {
         let tick = Instant::now();
         let t = now_s();
-        if let Some(gesture) = world.gesture(t) {
-            let expected = world
-                .detected(Side::Robot, t)
-                .contains(&gesture.target)
-                .then_some(gesture.robot_id);
+        if let Some(gesture) = world.pointing(t) {
+            let expected = gesture.expected;
             summary.queries += 1;
             let asked = Instant::now();
-            match ask(&mut client, &gesture, QUERY_TIMEOUT) {
+            match ask_pointing(&mut client, &gesture, QUERY_TIMEOUT) {
                 Ok(answer) => {
                     let rtt = u64::try_from(asked.elapsed().as_micros()).unwrap_or(u64::MAX);
                     let right = is_right(&answer, expected);
@@ -200,6 +276,15 @@ fn query_loop(
     Ok(summary)
 }
 
+/// Asks which robot object pointing `p` points at.
+fn ask_pointing(
+    client: &mut ReferenceClient,
+    p: &Pointing,
+    timeout: Duration,
+) -> Result<ReferenceAnswer, vref_wire::ipc::IpcError> {
+    client.by_ray(p.origin, p.direction, p.cone_half_angle, timeout)
+}
+
 /// Asks which robot object gesture `g` points at.
 pub(crate) fn ask(
     client: &mut ReferenceClient,
@@ -223,7 +308,7 @@ fn is_right(answer: &ReferenceAnswer, expected: Option<u64>) -> bool {
 
 fn line(
     t: f64,
-    g: &Gesture,
+    g: &Pointing,
     expected: Option<u64>,
     a: &ReferenceAnswer,
     right: bool,
@@ -246,14 +331,14 @@ fn line(
 
 fn wait_ready(
     client: &mut ReferenceClient,
-    world: &LiveWorld,
+    world: &Truth,
     services: &mut Services,
 ) -> anyhow::Result<()> {
     let deadline = Instant::now() + READY_WITHIN;
     while Instant::now() < deadline {
         services.ensure_running()?;
-        if let Some(g) = world.gesture(now_s())
-            && let Ok(answer) = ask(client, &g, QUERY_TIMEOUT)
+        if let Some(g) = world.pointing(now_s())
+            && let Ok(answer) = ask_pointing(client, &g, QUERY_TIMEOUT)
             && !matches!(
                 answer.status(),
                 AnswerStatus::NotReady | AnswerStatus::Stale

@@ -2,10 +2,12 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 
 use anyhow::Context;
-use vref_import::{CmuHouse, CmuHouseOptions};
-use vref_scene::DatasetWriter;
+use anyhow::anyhow;
+use vref_config::Config;
+use vref_import::{BopDataset, BopImport, BopOptions, CmuHouse, CmuHouseOptions};
+use vref_scene::{DatasetWriter, ScenePair};
 
-use crate::cli::CmuHouseArgs;
+use crate::cli::{BopArgs, CmuHouseArgs};
 use crate::failure::{Blame, Failure};
 
 pub fn cmu_house(args: &CmuHouseArgs) -> Result<(), Failure> {
@@ -18,21 +20,7 @@ pub fn cmu_house(args: &CmuHouseArgs) -> Result<(), Failure> {
         seed: args.seed,
     };
     let pairs = house.pairs(&options).bad_input()?;
-    match &args.out {
-        Some(path) => {
-            // Written beside the target and renamed, so that a failed
-            // import never leaves a truncated dataset behind.
-            let partial = path.with_extension("jsonl.tmp");
-            let file = File::create(&partial)
-                .with_context(|| format!("creating {}", partial.display()))
-                .runtime()?;
-            write_all(&pairs, BufWriter::new(file)).runtime()?;
-            std::fs::rename(&partial, path)
-                .with_context(|| format!("renaming {} to {}", partial.display(), path.display()))
-                .runtime()?;
-        }
-        None => write_all(&pairs, std::io::stdout().lock()).runtime()?,
-    }
+    write_dataset(&pairs, args.out.as_deref())?;
     tracing::info!(
         scenes = pairs.len(),
         frames = house.frames(),
@@ -41,7 +29,71 @@ pub fn cmu_house(args: &CmuHouseArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn write_all<W: Write>(pairs: &[vref_scene::ScenePair], output: W) -> anyhow::Result<()> {
+pub fn bop(args: &BopArgs) -> Result<(), Failure> {
+    let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
+    let mut perception = config.perception;
+    if let Some(n) = args.min_pixels {
+        perception.min_pixels = n;
+    }
+    perception.validate().context("--min-pixels").bad_input()?;
+    let dataset = BopDataset::open(&args.dir, &args.split).bad_input()?;
+    let options = BopOptions {
+        robot_image: args.robot_image,
+        human_image: args.human_image,
+        perception,
+    };
+    let import = BopImport::run(&dataset, &options);
+    let skipped = import.skipped();
+    let BopImport { scenes, failed } = import;
+    let failures = failed.len();
+    for (scene, error) in failed {
+        tracing::warn!("scene {scene} skipped: {:#}", anyhow::Error::new(error));
+    }
+    let limits = config.scene.limits();
+    let pairs = scenes
+        .iter()
+        .map(|s| s.pair(&limits))
+        .collect::<Result<Vec<ScenePair>, _>>()
+        .bad_input()?;
+    if pairs.is_empty() {
+        return Err(anyhow!(
+            "{}: none of its {failures} scenes could be imported",
+            args.dir.display(),
+        ))
+        .bad_input();
+    }
+    write_dataset(&pairs, args.out.as_deref())?;
+    tracing::warn!(
+        scenes = pairs.len(),
+        scenes_skipped = failures,
+        masks_too_small = skipped.too_small,
+        masks_without_depth = skipped.no_depth,
+        "imported {}",
+        dataset.name()
+    );
+    Ok(())
+}
+
+/// Writes `pairs` to `out` (renamed into place, so that a failed import
+/// never leaves a truncated dataset behind) or to stdout.
+fn write_dataset(pairs: &[ScenePair], out: Option<&std::path::Path>) -> Result<(), Failure> {
+    match out {
+        Some(path) => {
+            let partial = path.with_extension("jsonl.tmp");
+            let file = File::create(&partial)
+                .with_context(|| format!("creating {}", partial.display()))
+                .runtime()?;
+            write_all(pairs, BufWriter::new(file)).runtime()?;
+            std::fs::rename(&partial, path)
+                .with_context(|| format!("renaming {} to {}", partial.display(), path.display()))
+                .runtime()?;
+        }
+        None => write_all(pairs, std::io::stdout().lock()).runtime()?,
+    }
+    Ok(())
+}
+
+fn write_all<W: Write>(pairs: &[ScenePair], output: W) -> anyhow::Result<()> {
     let mut writer = DatasetWriter::new(output);
     for pair in pairs {
         writer.write(pair)?;

@@ -113,6 +113,21 @@ impl Services {
         objects: Option<usize>,
         logs: &Path,
     ) -> anyhow::Result<Self> {
+        let feed_args = match objects {
+            Some(n) => vec!["--objects".to_owned(), n.to_string()],
+            None => Vec::new(),
+        };
+        Self::start_system_with(binaries, config, &feed_args, logs)
+    }
+
+    /// The matcher and both feeds from `binaries` (as [`SERVICES`]) with
+    /// `--config`, the feeds with `feed_args` besides.
+    pub fn start_system_with(
+        binaries: &[PathBuf],
+        config: &Path,
+        feed_args: &[String],
+        logs: &Path,
+    ) -> anyhow::Result<Self> {
         let mut services = Services::new(logs);
         for binary in binaries {
             let name = binary
@@ -120,8 +135,8 @@ impl Services {
                 .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
             let mut command = Command::new(binary);
             command.arg("--config").arg(config);
-            if let (Some(n), true) = (objects, name.ends_with("feed")) {
-                command.arg("--objects").arg(n.to_string());
+            if name.ends_with("feed") {
+                command.args(feed_args);
             }
             services.spawn(&name, command)?;
         }

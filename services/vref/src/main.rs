@@ -5,6 +5,7 @@
 //! "it broke".
 
 mod bench;
+mod bench_perception;
 mod bench_plot;
 mod bench_query;
 mod cli;
@@ -39,6 +40,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Eval(args) => eval::run(&args),
         Command::Import(ImportCommand::CmuHouse(args)) => import::cmu_house(&args),
+        Command::Import(ImportCommand::Bop(args)) => import::bop(&args),
         Command::Config(ConfigCommand::Check(args)) => config_cmd::check(&args),
         Command::Scenes(args) => scenes::run(&args),
         Command::Viz(args) => viz::run(&args),
@@ -51,6 +53,7 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
+        Command::Bench(BenchCommand::Perception(args)) => bench_perception::perception(&args),
         Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
     };
     match result {

@@ -1,0 +1,115 @@
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+//! The BOP source on the shared table scenes: what the two feeds publish
+//! when, without shared memory, and the pointing targets they agree on.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use vref_config::Config;
+use vref_feed::{BopWorld, Due, Feed, FeedArgs, Publication, Role, SourceSpec};
+use vref_perception::PerceptionSettings;
+use vref_scene::Limits;
+
+const SECOND: u64 = 1_000_000_000;
+const NOW: u64 = 1_720_000_000 * SECOND;
+
+fn table() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/bop/table")
+}
+
+fn world() -> BopWorld {
+    BopWorld::load(
+        &table(),
+        PerceptionSettings::default(),
+        Limits::default(),
+        5.0,
+    )
+    .unwrap()
+}
+
+#[test]
+fn targets_are_true_pairs_of_the_scene_shown_and_change_per_slot() {
+    let world = world();
+    assert_eq!(world.pairs().len(), 12);
+    let mut ids = HashSet::new();
+    for pair in world.pairs() {
+        for o in pair.robot.objects().iter().chain(pair.human.objects()) {
+            assert!(ids.insert(o.id), "id {} names two objects", o.id);
+        }
+    }
+    let (mut slots, mut chosen) = (HashSet::new(), HashSet::new());
+    for k in 0..120 {
+        let t = 1_720_000_000.0 + 0.5 * f64::from(k);
+        let g = world.gesture(t).unwrap();
+        assert_eq!(g.scene, world.scene_at(t), "t {t}");
+        let pair = &world.pairs()[g.scene];
+        assert!(pair.ground_truth.contains(&(g.human_id, g.robot_id)));
+        let norm = g.direction.iter().map(|v| v * v).sum::<f64>().sqrt();
+        assert!((norm - 1.0).abs() < 1e-9);
+        assert!(t - g.since_s >= 0.0 && t - g.since_s < world.slot_s());
+        slots.insert(g.slot);
+        chosen.insert(g.human_id);
+    }
+    // 60 s: 24 slots of 2.5 s (25 when the start falls inside one), each
+    // a target of its own scene.
+    assert!((24..=25).contains(&slots.len()), "{}", slots.len());
+    assert!(chosen.len() >= 20, "{} targets", chosen.len());
+}
+
+#[test]
+fn both_feeds_show_the_scene_of_the_moment_and_the_gesture_feed_points() {
+    let args = FeedArgs {
+        config: None,
+        source: SourceSpec::Bop(table()),
+        rate: None,
+        objects: None,
+        epoch_ns: 0,
+        hold_s: 5.0,
+    };
+    let world = world();
+    let config = Config::default();
+    for role in [Role::Perception, Role::Gesture] {
+        let mut feed = Feed::prepare(role, &args, &config).unwrap();
+        let (mut snapshots, mut rays) = (0, 0);
+        let mut now = NOW;
+        while now < NOW + 3 * SECOND {
+            let Due { at_ns, publication } = feed.next(now).unwrap();
+            let t = at_ns as f64 / 1e9;
+            let pair = &world.pairs()[world.scene_at(t)];
+            match publication {
+                Publication::Snapshot { entries, .. } => {
+                    let graph = match role {
+                        Role::Perception => &pair.robot,
+                        Role::Gesture => &pair.human,
+                    };
+                    let ids: Vec<u64> = entries.iter().map(|e| e.track_id).collect();
+                    let want: Vec<u64> = graph.objects().iter().map(|o| o.id).collect();
+                    assert_eq!(ids, want);
+                    assert!(entries.iter().all(|e| e.position_sigma[2] > 0.0));
+                    snapshots += 1;
+                }
+                Publication::Gesture { target, .. } => {
+                    let target = target.unwrap();
+                    assert_eq!(target.human_id, world.gesture(t).unwrap().human_id);
+                    rays += 1;
+                }
+            }
+            now = at_ns + 1_000_000;
+        }
+        assert!(snapshots >= 80, "{role:?}: {snapshots} snapshots in 3 s");
+        match role {
+            Role::Perception => assert_eq!(rays, 0),
+            Role::Gesture => assert!(rays >= 5, "{rays} rays in 3 s"),
+        }
+    }
+    assert_eq!(
+        "bop:a/b".parse::<SourceSpec>().unwrap(),
+        SourceSpec::Bop(PathBuf::from("a/b"))
+    );
+    let missing = FeedArgs {
+        source: SourceSpec::Bop(PathBuf::from("/nonexistent/bop")),
+        ..args
+    };
+    let err = Feed::prepare(Role::Perception, &missing, &config).unwrap_err();
+    assert!(err.to_string().contains("/nonexistent/bop"), "{err}");
+}

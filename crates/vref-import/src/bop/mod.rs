@@ -1,0 +1,235 @@
+//! BOP datasets (RGB-D images, instance masks, ground-truth poses) to
+//! two-view scene pairs: image `robot_image` of each scene is the robot's
+//! view, `human_image` the headset's, objects come from the perception
+//! front end, and the instance index is the ground truth of which object
+//! is which.
+
+mod layout;
+
+use image::GrayImage;
+use rand::SeedableRng;
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
+use vref_perception::{Detection, Frame, FrontEnd, Mask, PerceptionSettings, Skipped};
+use vref_scene::{Limits, SceneGraph, SceneObject, ScenePair, Side};
+
+pub use layout::{BopDataset, BopSceneDir, BopView, datasets_in};
+
+use crate::ImportError;
+
+/// Which images make the two views, and the front end's settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BopOptions {
+    pub robot_image: u32,
+    pub human_image: u32,
+    pub perception: PerceptionSettings,
+}
+
+/// Track ids of robot objects start here, of human objects at
+/// [`HUMAN_IDS`]: the two never coincide, and neither tells the instance.
+pub const ROBOT_IDS: u64 = 1000;
+pub const HUMAN_IDS: u64 = 2000;
+
+/// One view as the front end measured it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredView {
+    /// In the view's (shuffled) object order.
+    pub detections: Vec<Detection>,
+    /// The ground-truth instance of each detection.
+    pub instances: Vec<usize>,
+    /// Track id of every instance, measured or not.
+    pub track_ids: Vec<u64>,
+    pub skipped: Skipped,
+}
+
+impl MeasuredView {
+    /// Measures `view` with `front_end`; instance `k` is reported under
+    /// `track_ids[k]`, and objects are listed in the order of their ids.
+    pub fn measure(
+        view: &BopView,
+        track_ids: Vec<u64>,
+        front_end: &mut FrontEnd,
+    ) -> Result<Self, vref_perception::FrameError> {
+        let mut order: Vec<usize> = (0..view.masks.len()).collect();
+        order.sort_by_key(|&k| track_ids[k]);
+        let masks: Vec<Mask<'_>> = order
+            .iter()
+            .map(|&k| Mask {
+                id: track_ids[k],
+                pixels: &view.masks[k],
+            })
+            .collect();
+        let frame = Frame {
+            colour: &view.colour,
+            depth: &view.depth,
+            intrinsics: view.intrinsics,
+            masks: &masks,
+        };
+        let mut detections = Vec::with_capacity(masks.len());
+        let skipped = front_end.process(&frame, &mut detections)?;
+        let instances = detections
+            .iter()
+            .filter_map(|d| track_ids.iter().position(|&id| id == d.id))
+            .collect();
+        Ok(Self {
+            detections,
+            instances,
+            track_ids,
+            skipped,
+        })
+    }
+
+    /// The track id of the detection of instance `k`, if it was measured.
+    pub fn measured_id(&self, k: usize) -> Option<u64> {
+        self.instances
+            .iter()
+            .position(|&i| i == k)
+            .map(|p| self.detections[p].id)
+    }
+
+    /// The view as a scene graph, with stated position errors.
+    pub fn graph(&self, limits: &Limits) -> Result<SceneGraph, vref_scene::GraphError> {
+        let objects = self
+            .detections
+            .iter()
+            .map(|d| SceneObject::new(d.id, d.position, d.feature.to_vec()).with_sigma(d.sigma))
+            .collect();
+        SceneGraph::new(objects, None, limits)
+    }
+}
+
+/// One BOP scene measured in both views.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BopScene {
+    /// Dataset folder and scene id, `table/000003`.
+    pub name: String,
+    pub robot: MeasuredView,
+    pub human: MeasuredView,
+}
+
+impl BopScene {
+    /// Loads and measures both views of `scene`.
+    pub fn measure(
+        dataset: &BopDataset,
+        scene: &BopSceneDir,
+        options: &BopOptions,
+    ) -> Result<Self, ImportError> {
+        let mut robot_end = FrontEnd::new(options.perception.robot());
+        let mut human_end = FrontEnd::new(options.perception.human());
+        let view = |image: u32, base: u64, front_end: &mut FrontEnd| {
+            let loaded = scene.load_view(image)?;
+            let ids = track_ids(scene.id, image, loaded.masks.len(), base);
+            MeasuredView::measure(&loaded, ids, front_end).map_err(|source| ImportError::Frame {
+                path: scene.dir.clone(),
+                image,
+                source,
+            })
+        };
+        Ok(Self {
+            name: dataset.scene_name(scene),
+            robot: view(options.robot_image, ROBOT_IDS, &mut robot_end)?,
+            human: view(options.human_image, HUMAN_IDS, &mut human_end)?,
+        })
+    }
+
+    /// (human id, robot id) of every instance both views measured.
+    pub fn truth(&self) -> Vec<(u64, u64)> {
+        let mut pairs: Vec<(u64, u64)> = self
+            .human
+            .instances
+            .iter()
+            .zip(&self.human.detections)
+            .filter_map(|(&k, d)| Some((d.id, self.robot.measured_id(k)?)))
+            .collect();
+        pairs.sort_unstable();
+        pairs
+    }
+
+    /// The scene as a dataset's scene pair.
+    pub fn pair(&self, limits: &Limits) -> Result<ScenePair, ImportError> {
+        let invalid = |side| {
+            let name = self.name.clone();
+            move |source| ImportError::Invalid {
+                name,
+                source: vref_scene::PairError::Graph { side, source },
+            }
+        };
+        let robot = self.robot.graph(limits).map_err(invalid(Side::Robot))?;
+        let human = self.human.graph(limits).map_err(invalid(Side::Human))?;
+        ScenePair::new(self.name.clone(), robot, human, self.truth()).map_err(|source| {
+            ImportError::Invalid {
+                name: self.name.clone(),
+                source,
+            }
+        })
+    }
+}
+
+/// Track ids of a view's `n` instances: `base` plus the instance's place
+/// in an order shuffled per scene and image, so that an id says nothing
+/// of the instance and the two views' ids differ.
+pub fn track_ids(scene: u32, image: u32, n: usize, base: u64) -> Vec<u64> {
+    let mut order: Vec<u64> = (0..n as u64).collect();
+    let seed = (u64::from(scene) << 32) | u64::from(image);
+    order.shuffle(&mut ChaCha8Rng::seed_from_u64(seed));
+    order.into_iter().map(|p| base + p).collect()
+}
+
+/// The scenes of a dataset that could be measured, and why the others
+/// could not.
+#[derive(Debug)]
+pub struct BopImport {
+    pub scenes: Vec<BopScene>,
+    pub failed: Vec<(String, ImportError)>,
+}
+
+impl BopImport {
+    /// Every scene of `dataset`; a scene that fails is set aside with its
+    /// error, and the others are measured.
+    pub fn run(dataset: &BopDataset, options: &BopOptions) -> Self {
+        let mut scenes = Vec::new();
+        let mut failed = Vec::new();
+        for scene in dataset.scenes() {
+            match BopScene::measure(dataset, scene, options) {
+                Ok(s) => scenes.push(s),
+                Err(e) => failed.push((dataset.scene_name(scene), e)),
+            }
+        }
+        Self { scenes, failed }
+    }
+
+    /// Masks skipped in all scenes, both views.
+    pub fn skipped(&self) -> Skipped {
+        let mut total = Skipped::default();
+        for view in self.scenes.iter().flat_map(|s| [&s.robot, &s.human]) {
+            total.too_small += view.skipped.too_small;
+            total.no_depth += view.skipped.no_depth;
+        }
+        total
+    }
+}
+
+/// A mask's outline pixels (in the mask, with a 4-neighbour outside it),
+/// for pictures.
+pub fn outline(mask: &GrayImage) -> Vec<(u32, u32)> {
+    let (w, h) = mask.dimensions();
+    let inside = |u: i64, v: i64| {
+        u >= 0
+            && v >= 0
+            && u < i64::from(w)
+            && v < i64::from(h)
+            && mask.get_pixel(u as u32, v as u32).0[0] != 0
+    };
+    let mut out = Vec::new();
+    for v in 0..h {
+        for u in 0..w {
+            let (x, y) = (i64::from(u), i64::from(v));
+            if inside(x, y)
+                && !(inside(x - 1, y) && inside(x + 1, y) && inside(x, y - 1) && inside(x, y + 1))
+            {
+                out.push((u, v));
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,56 @@
+//! Image files to the front end's image types, decoded by the `image`
+//! crate. Every error names the file.
+
+use std::path::Path;
+
+use image::{DynamicImage, GrayImage, ImageReader, RgbImage};
+
+use crate::{DepthPixels, LoadError};
+
+fn decode(path: &Path) -> Result<DynamicImage, LoadError> {
+    let reader = ImageReader::open(path)
+        .and_then(ImageReader::with_guessed_format)
+        .map_err(|source| LoadError::Open {
+            path: path.to_owned(),
+            source,
+        })?;
+    reader.decode().map_err(|source| LoadError::Decode {
+        path: path.to_owned(),
+        source,
+    })
+}
+
+/// A colour image (8-bit RGB; 8-bit grey is expanded to RGB).
+pub fn load_colour(path: &Path) -> Result<RgbImage, LoadError> {
+    match decode(path)? {
+        DynamicImage::ImageRgb8(image) => Ok(image),
+        grey @ DynamicImage::ImageLuma8(_) => Ok(grey.to_rgb8()),
+        other => Err(LoadError::NotColour {
+            path: path.to_owned(),
+            found: other.color(),
+        }),
+    }
+}
+
+/// A 16-bit grey depth image; any other pixel type is refused (a depth
+/// image squeezed into 8 bits has lost its range).
+pub fn load_depth(path: &Path) -> Result<DepthPixels, LoadError> {
+    match decode(path)? {
+        DynamicImage::ImageLuma16(image) => Ok(image),
+        other => Err(LoadError::NotDepth16 {
+            path: path.to_owned(),
+            found: other.color(),
+        }),
+    }
+}
+
+/// An 8-bit grey instance mask (non-zero: the object).
+pub fn load_mask(path: &Path) -> Result<GrayImage, LoadError> {
+    match decode(path)? {
+        DynamicImage::ImageLuma8(image) => Ok(image),
+        other => Err(LoadError::NotMask {
+            path: path.to_owned(),
+            found: other.color(),
+        }),
+    }
+}
