@@ -402,7 +402,7 @@ fn serve_echo(ipc: &IpcSettings) -> anyhow::Result<()> {
         if let Err(e) = requests.try_wait(|_| {}) {
             tracing::warn!("draining the request listener: {e:?}");
         }
-        let done = answer_waiting(&server, echo, |_| {});
+        let done = answer_waiting(&server, |q, _| Some(echo(q)), |_| {});
         for failure in &done.failures {
             tracing::warn!("{failure}");
         }
