@@ -223,7 +223,10 @@ fn classify(report: &mut Report, answer: &ReferenceAnswer, took: Duration) {
 }
 
 fn failed(report: &mut Report, error: &vref_wire::ipc::IpcError) {
-    if matches!(error, vref_wire::ipc::IpcError::Timeout { .. }) {
+    if matches!(
+        error,
+        vref_wire::ipc::IpcError::Timeout { .. } | vref_wire::ipc::IpcError::NoServer { .. }
+    ) {
         report.timeouts += 1;
     } else {
         report.errors += 1;
