@@ -11,7 +11,6 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
 
-use iceoryx2::prelude::*;
 use nix::sys::signal::Signal;
 use support::processes::{Harness, eventually};
 use support::table::table_harness_with;
