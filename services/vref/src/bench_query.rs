@@ -283,7 +283,7 @@ fn measure(
                 .push(Duration::from_micros(decision.header.solve_us));
         }
         tick += 1;
-        if tick % 100 == 0 {
+        if tick.is_multiple_of(100) {
             running()?;
         }
         if let Some(rest) = period.checked_sub(started.elapsed()) {
