@@ -225,6 +225,15 @@ impl Config {
                 format!("max_queries_per_client_hz is {rate}, but must be at least 1"),
             ));
         }
+        if !(0..=19).contains(&matcher.solver_nice) {
+            return Err(section(
+                "matcher",
+                format!(
+                    "solver_nice is {}, but must be in 0..=19",
+                    matcher.solver_nice
+                ),
+            ));
+        }
         vref_reference::check_budget(matcher, self.scene.capacity)
             .map_err(|e| section("matcher", e.to_string()))?;
         if !(0.0..=1.0).contains(&matcher.ambiguity_threshold) {

@@ -77,6 +77,7 @@ fn bad_values_are_errors_naming_the_parameter() {
             "[matcher]\nmax_queries_per_client_hz = 0.0\n",
             "max_queries_per_client_hz",
         ),
+        ("[matcher]\nsolver_nice = 20\n", "solver_nice"),
         ("[ipc]\nprefix = \"\"\n", "prefix"),
         ("[ipc]\nmax_clients = 0\n", "max_clients"),
         ("[feeds]\nsnapshot_rate_hz = 0.0\n", "snapshot_rate_hz"),

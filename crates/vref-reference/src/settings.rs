@@ -29,6 +29,10 @@ pub struct MatcherSettings {
     /// Queries a client may have answered per second (bursts of a tenth of
     /// a second's worth); the rest are dropped unanswered and counted.
     pub max_queries_per_client_hz: f64,
+    /// Nice value of the solver thread (0 to 19): above 0 the query path,
+    /// the feeds and the clients run first, and the solve takes what CPU
+    /// is left (all of a core on a machine with one to spare).
+    pub solver_nice: i32,
     /// How often dead nodes of crashed processes are cleaned up, ms.
     pub cleanup_interval_ms: u64,
     /// Answers whose confidence is below this are `ambiguous` (with the
@@ -49,6 +53,7 @@ impl Default for MatcherSettings {
             max_clock_skew_ms: 100,
             max_capture_age_ms: 10_000,
             max_queries_per_client_hz: 2000.0,
+            solver_nice: 10,
             cleanup_interval_ms: 250,
             ambiguity_threshold: 0.5,
         }

@@ -9,6 +9,7 @@
 //! 2 bad configuration (including one that cannot solve within its
 //! freshness budget).
 
+mod priority;
 mod reject_log;
 mod service;
 mod solving;

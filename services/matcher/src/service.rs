@@ -117,6 +117,8 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
         handoff.clone(),
         Publishing {
             ipc: ipc.clone(),
+            nice: config.matcher.solver_nice,
+            budget: Duration::from_millis(vref_reference::freshness_budget_ms(&config.matcher)),
             method: config.matcher.method.clone(),
             ambiguity_threshold: config.matcher.ambiguity_threshold,
         },

@@ -38,6 +38,9 @@ pub struct SolverThread {
 #[derive(Debug, Clone)]
 pub struct Publishing {
     pub ipc: IpcSettings,
+    pub nice: i32,
+    /// A solve longer than this makes answers stale: said in the log.
+    pub budget: Duration,
     pub method: String,
     pub ambiguity_threshold: f64,
 }
@@ -80,6 +83,12 @@ impl SolverThread {
 }
 
 fn solve_until_closed(mut solver: Solver, handoff: &Handoff, publishing: &Publishing) {
+    if let Err(e) = crate::priority::set_this_thread_nice(publishing.nice) {
+        tracing::warn!(
+            nice = publishing.nice,
+            "the solver thread keeps its priority: {e}"
+        );
+    }
     // Its own node: iceoryx2's ports belong to the thread that made them.
     let decisions = create_node(&publishing.ipc, "vref-matcher-solver")
         .and_then(|node| {
@@ -107,6 +116,14 @@ fn solve_until_closed(mut solver: Solver, handoff: &Handoff, publishing: &Publis
                 continue;
             }
         };
+        if solved.took > publishing.budget {
+            let over = format!(
+                "took {} ms, over the freshness budget of {} ms (half of stale_after_ms): answers resting on it turn stale sooner",
+                solved.took.as_millis(),
+                publishing.budget.as_millis()
+            );
+            warn("a solve", &over);
+        }
         handoff.solved.publish(solved.clone());
         if let Some(publisher) = &mut publisher
             && let Err(e) = publish(publisher, &solved, publishing)
