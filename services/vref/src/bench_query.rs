@@ -348,9 +348,17 @@ fn wait_ready(
     while Instant::now() < deadline {
         running()?;
         if !matcher_ready && let Some(&id) = human_ids(world).first() {
-            matcher_ready = matcher
-                .by_human_object(id, QUERY_TIMEOUT)
-                .is_ok_and(|a| matches!(a.status(), AnswerStatus::Ok | AnswerStatus::Ambiguous));
+            // Any answer from a solution, stale too: a configuration whose
+            // solves are slow is measured, not refused here.
+            matcher_ready = matcher.by_human_object(id, QUERY_TIMEOUT).is_ok_and(|a| {
+                matches!(
+                    a.status(),
+                    AnswerStatus::Ok
+                        | AnswerStatus::Ambiguous
+                        | AnswerStatus::NoMatch
+                        | AnswerStatus::Stale
+                )
+            });
         }
         if !bare_ready {
             bare_ready = bare.by_human_object(0, QUERY_TIMEOUT).is_ok();

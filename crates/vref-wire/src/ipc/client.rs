@@ -21,6 +21,10 @@ const POLL: Duration = Duration::from_millis(20);
 /// so that a killed matcher's server is seen gone.
 const CHECK_EVERY: Duration = Duration::from_millis(20);
 const CLEANUP_EVERY: Duration = Duration::from_millis(250);
+/// How long a request must stay let go, with the same servers there, to
+/// count as refused: a dead server's cleanup drops its connection a moment
+/// before its listing.
+const REFUSED_AFTER: Duration = Duration::from_millis(100);
 /// Servers a reference service allows (services.rs), and so the most a
 /// client can see.
 const MAX_SERVERS: usize = 8;
@@ -167,6 +171,7 @@ impl ReferenceClient {
         let mut servers = Servers::of(&self.port);
         let mut pending = Some(self.send(query)?);
         let (mut checked, mut cleaned) = (start, start);
+        let mut let_go_since: Option<Instant> = None;
         loop {
             let now = Instant::now();
             if let Some(sent) = &pending {
@@ -185,10 +190,12 @@ impl ReferenceClient {
                     }
                     return Ok(answer);
                 }
-                if !connected
+                let let_go = !connected
                     && sent.number_of_server_connections() > 0
-                    && Servers::of(&self.port) == servers
-                {
+                    && Servers::of(&self.port) == servers;
+                if !let_go {
+                    let_go_since = None;
+                } else if now.duration_since(*let_go_since.get_or_insert(now)) >= REFUSED_AFTER {
                     // Every server it reached let it go unanswered.
                     return Err(IpcError::Refused);
                 }
@@ -215,6 +222,7 @@ impl ReferenceClient {
                     servers = current;
                     // Its place among the client's active requests first.
                     pending = None;
+                    let_go_since = None;
                     if !servers.is_empty() {
                         pending = Some(self.send(query)?);
                     }
