@@ -1,6 +1,7 @@
 //! `vref bench query` with real service processes: a short run reports
-//! every documented figure, with cached answers, answers after a solve and
-//! bare round trips all measured, and no query lost. Timings themselves
+//! every documented figure, with all answers, cached answers, first
+//! answers from a new solution, bare round trips and an idle matcher's
+//! answers all measured, and no query lost. Timings themselves
 //! are never asserted (they go in README).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -25,6 +26,7 @@ fn a_short_run_reports_cached_solved_and_bare_round_trips() {
             "100",
             "--duration",
             "2s",
+            "--compare-idle",
             "--json",
             "--config",
             h.config_arg(),
@@ -37,6 +39,14 @@ fn a_short_run_reports_cached_solved_and_bare_round_trips() {
     let report: serde_json::Value = serde_json::from_str(lines[0]).unwrap();
     assert_eq!(report["objects"], 8, "{report}");
     for key in [
+        "all_p50_us",
+        "all_p99_us",
+        "ratio_all_p99",
+        "all_p999_us",
+        "idle_all_p50_us",
+        "idle_all_p99_us",
+        "ratio_busy_idle_p99",
+        "solve_time_p50_us",
         "cached_p50_us",
         "cached_p99_us",
         "solve_p50_us",
@@ -51,7 +61,7 @@ fn a_short_run_reports_cached_solved_and_bare_round_trips() {
         let value = report[key].as_f64();
         assert!(value.is_some_and(|v| v > 0.0), "{key}: {report}");
     }
-    for kind in ["cached", "solve", "bare"] {
+    for kind in ["all", "cached", "solve", "bare"] {
         let count = report[format!("{kind}_count")].as_u64().unwrap();
         assert!(count > 0, "no {kind} round trips: {report}");
         let p50 = report[format!("{kind}_p50_us")].as_f64().unwrap();
@@ -66,6 +76,12 @@ fn a_short_run_reports_cached_solved_and_bare_round_trips() {
         (ratio - expected).abs() <= 0.001 * expected.max(1.0),
         "{report}"
     );
+    let all = report["ratio_all_p99"].as_f64().unwrap();
+    let expected = report["all_p99_us"].as_f64().unwrap() / report["bare_p99_us"].as_f64().unwrap();
+    assert!(
+        (all - expected).abs() <= 0.001 * expected.max(1.0),
+        "{report}"
+    );
     assert_eq!(report["timeouts"], 0, "{report}");
     assert_eq!(report["errors"], 0, "{report}");
     // Two matcher queries and one bare query per tick.
@@ -77,6 +93,7 @@ fn a_short_run_reports_cached_solved_and_bare_round_trips() {
         2 * report["bare_count"].as_u64().unwrap(),
         "{report}"
     );
+    assert_eq!(report["all_count"].as_u64().unwrap(), matcher, "{report}");
 }
 
 #[test]

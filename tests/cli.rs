@@ -237,6 +237,18 @@ fn config_check_accepts_the_shipped_file_and_names_an_unknown_key() {
     let run = vref(&["config", "check", &bad], LIMIT);
     assert_eq!(run.code, Some(2));
     assert!(run.stderr.contains("rrwm.c"), "{}", run.stderr);
+
+    // A method that cannot solve its capacity within the freshness budget.
+    let slow = write(
+        dir.path(),
+        "slow.toml",
+        "[matcher]\nmethod = \"paper\"\ntier = \"exact\"\n",
+    );
+    let run = vref(&["config", "check", &slow], LIMIT);
+    assert_eq!(run.code, Some(2));
+    for part in ["freshness budget of 250 ms", "[scene] capacity to 87"] {
+        assert!(run.stderr.contains(part), "{part}: {}", run.stderr);
+    }
 }
 
 /// The exact tier's product runs in AVX-512, AVX2 or baseline code by what

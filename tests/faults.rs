@@ -274,6 +274,27 @@ fn inconsistent_snapshots_and_bad_rays_are_refused_and_the_last_good_snapshot_st
 }
 
 #[test]
+fn stamps_from_the_future_or_an_hour_old_are_refused_and_the_last_good_snapshot_stays() {
+    run_all(
+        "stamp",
+        &[
+            Fault {
+                kind: "future-stamp",
+                side: "robot",
+                reason: "timestamp_future",
+                defect: "in the future, more than [matcher] max_clock_skew_ms = 100",
+            },
+            Fault {
+                kind: "old-stamp",
+                side: "human",
+                reason: "timestamp_too_old",
+                defect: "ms old, more than [matcher] max_capture_age_ms = 10000",
+            },
+        ],
+    );
+}
+
+#[test]
 fn an_unknown_kind_is_bad_input_and_lists_the_kinds() {
     let run = support::vref(&["inject", "--kind", "gremlins"], Duration::from_secs(20));
     assert_eq!(run.code, Some(2), "{}", run.stderr);
@@ -290,6 +311,10 @@ fn an_unknown_kind_is_bad_input_and_lists_the_kinds() {
         "zero-ray",
         "schema-version",
         "sequence-backwards",
+        "future-stamp",
+        "old-stamp",
+        "hijack-sequence",
+        "hijack-ray",
     ] {
         assert!(run.stderr.contains(kind), "{kind} missing:\n{}", run.stderr);
     }

@@ -131,11 +131,10 @@ struct Load {
 
 const PHASES: usize = 5;
 
-/// A query unanswered this long counts as lost. Not a latency bound: this
-/// binary's 20 s soak runs beside this test on two cores, and a fresh
-/// clone's CI run once saw one wait over 500 ms (the old bound) while the
-/// gesture feed restarted.
-const LOST_AFTER: Duration = Duration::from_secs(2);
+/// A query unanswered this long counts as lost. Not a latency bound: a
+/// bound on what a feed's restart may cost a query, now that no intake or
+/// solve runs on the query path.
+const LOST_AFTER: Duration = Duration::from_millis(500);
 
 impl Load {
     fn start(ipc: &IpcSettings) -> Self {
@@ -160,7 +159,9 @@ impl Load {
                         }
                         counts[at].statuses[a.status() as usize] += 1;
                     }
-                    Err(IpcError::Timeout { .. }) => counts[at].timeouts += 1,
+                    Err(IpcError::Timeout { .. } | IpcError::NoServer { .. }) => {
+                        counts[at].timeouts += 1
+                    }
                     Err(_) => counts[at].failures += 1,
                 }
                 std::thread::sleep(Duration::from_millis(5));

@@ -39,7 +39,19 @@ pub fn dataset() -> String {
 /// A harness whose feeds can publish the table (`--source` is the third
 /// value), with the ipc settings its configuration holds.
 pub fn table_harness(tag: &str) -> (Harness, IpcSettings, String) {
-    let h = Harness::new(tag, "[matching]\nbeta = 0.01\n");
+    table_harness_with(tag, "", "")
+}
+
+/// Like [`table_harness`], with `matcher` lines added to the `[matcher]`
+/// section and `ipc` lines to the `[ipc]` section.
+pub fn table_harness_with(tag: &str, matcher: &str, ipc: &str) -> (Harness, IpcSettings, String) {
+    let h = Harness::new(tag, &format!("{matcher}[matching]\nbeta = 0.01\n"));
+    let text = std::fs::read_to_string(&h.config).unwrap();
+    std::fs::write(
+        &h.config,
+        text.replacen("[ipc]\n", &format!("[ipc]\n{ipc}"), 1),
+    )
+    .unwrap();
     let scene = h.dir.path().join("table.jsonl");
     std::fs::write(&scene, dataset()).unwrap();
     let config = vref_config::Config::from_file(&h.config).unwrap();

@@ -199,12 +199,57 @@ impl Config {
         matcher
             .method()
             .map_err(|e| section("matcher", format!("method: {e}")))?;
+        matcher
+            .tier()
+            .map_err(|e| section("matcher", format!("tier: {e}")))?;
         if matcher.stale_after_ms == 0 || matcher.cleanup_interval_ms == 0 {
             return Err(section(
                 "matcher",
                 "stale_after_ms and cleanup_interval_ms must be at least 1".to_owned(),
             ));
         }
+        if matcher.ray_max_age_ms == 0 {
+            return Err(section(
+                "matcher",
+                "ray_max_age_ms must be at least 1".to_owned(),
+            ));
+        }
+        if matcher.max_clock_skew_ms >= matcher.stale_after_ms {
+            return Err(section(
+                "matcher",
+                format!(
+                    "max_clock_skew_ms is {}, but must be below stale_after_ms ({}): a clock that far ahead would hide stale answers",
+                    matcher.max_clock_skew_ms, matcher.stale_after_ms
+                ),
+            ));
+        }
+        if matcher.max_capture_age_ms <= matcher.max_clock_skew_ms {
+            return Err(section(
+                "matcher",
+                format!(
+                    "max_capture_age_ms is {}, but must be above max_clock_skew_ms ({})",
+                    matcher.max_capture_age_ms, matcher.max_clock_skew_ms
+                ),
+            ));
+        }
+        let rate = matcher.max_queries_per_client_hz;
+        if !(rate.is_finite() && rate >= 1.0) {
+            return Err(section(
+                "matcher",
+                format!("max_queries_per_client_hz is {rate}, but must be at least 1"),
+            ));
+        }
+        if !(0..=19).contains(&matcher.solver_nice) {
+            return Err(section(
+                "matcher",
+                format!(
+                    "solver_nice is {}, but must be in 0..=19",
+                    matcher.solver_nice
+                ),
+            ));
+        }
+        vref_reference::check_budget(matcher, self.scene.capacity)
+            .map_err(|e| section("matcher", e.to_string()))?;
         if !(0.0..=1.0).contains(&matcher.ambiguity_threshold) {
             return Err(section(
                 "matcher",

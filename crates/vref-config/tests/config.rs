@@ -69,6 +69,15 @@ fn bad_values_are_errors_naming_the_parameter() {
             "[matcher]\nambiguity_threshold = 2.0\n",
             "ambiguity_threshold",
         ),
+        ("[matcher]\ntier = \"fast\"\n", "fast"),
+        ("[matcher]\nray_max_age_ms = 0\n", "ray_max_age_ms"),
+        ("[matcher]\nmax_clock_skew_ms = 500\n", "max_clock_skew_ms"),
+        ("[matcher]\nmax_capture_age_ms = 50\n", "max_capture_age_ms"),
+        (
+            "[matcher]\nmax_queries_per_client_hz = 0.0\n",
+            "max_queries_per_client_hz",
+        ),
+        ("[matcher]\nsolver_nice = 20\n", "solver_nice"),
         ("[ipc]\nprefix = \"\"\n", "prefix"),
         ("[ipc]\nmax_clients = 0\n", "max_clients"),
         ("[feeds]\nsnapshot_rate_hz = 0.0\n", "snapshot_rate_hz"),
@@ -100,6 +109,28 @@ fn bad_values_are_errors_naming_the_parameter() {
         let message = chain(&err);
         assert!(message.contains(name), "{text:?}: {message}");
     }
+}
+
+/// The exact tier at the default capacity cannot solve within the
+/// freshness budget: refused, naming what would make it fit.
+#[test]
+fn a_configuration_that_cannot_solve_in_time_is_refused() {
+    let text = "[matcher]\nmethod = \"paper\"\ntier = \"exact\"\n";
+    let message = chain(&Config::parse(text, Path::new("x.toml")).unwrap_err());
+    for part in [
+        "[matcher]",
+        "paper",
+        "exact",
+        "256 objects",
+        "[scene] capacity",
+        "stale_after_ms",
+    ] {
+        assert!(message.contains(part), "{part}: {message}");
+    }
+    let smaller = format!("{text}[scene]\ncapacity = 64\n");
+    Config::parse(&smaller, Path::new("x.toml")).unwrap();
+    let patient = "[matcher]\nmethod = \"paper\"\ntier = \"exact\"\nstale_after_ms = 120000\n";
+    Config::parse(patient, Path::new("x.toml")).unwrap();
 }
 
 #[test]

@@ -29,10 +29,20 @@ pub enum Kind {
     SchemaVersion,
     /// Sequence 10, then 5, in one session.
     SequenceBackwards,
+    /// A valid snapshot stamped an hour in the future.
+    FutureStamp,
+    /// A valid snapshot stamped an hour ago.
+    OldStamp,
+    /// A valid snapshot in the live feed's session (read from the service,
+    /// as any subscriber can) with the largest sequence number.
+    HijackSequence,
+    /// A valid ray in the live gesture feed's session with the largest
+    /// sequence number, pointing at human object 3.
+    HijackRay,
 }
 
 impl Kind {
-    pub const ALL: [Kind; 12] = [
+    pub const ALL: [Kind; 16] = [
         Kind::Valid,
         Kind::Nan,
         Kind::Inf,
@@ -45,6 +55,10 @@ impl Kind {
         Kind::ZeroRay,
         Kind::SchemaVersion,
         Kind::SequenceBackwards,
+        Kind::FutureStamp,
+        Kind::OldStamp,
+        Kind::HijackSequence,
+        Kind::HijackRay,
     ];
 
     /// The name on the command line.
@@ -62,6 +76,10 @@ impl Kind {
             Kind::ZeroRay => "zero-ray",
             Kind::SchemaVersion => "schema-version",
             Kind::SequenceBackwards => "sequence-backwards",
+            Kind::FutureStamp => "future-stamp",
+            Kind::OldStamp => "old-stamp",
+            Kind::HijackSequence => "hijack-sequence",
+            Kind::HijackRay => "hijack-ray",
         }
     }
 
@@ -70,6 +88,16 @@ impl Kind {
     /// only the newest, so `10, 5` sent back to back could read as `5`.
     pub fn needs_settling(self) -> bool {
         self == Kind::SequenceBackwards
+    }
+
+    /// Whether the messages go to the gesture service.
+    pub fn is_ray(self) -> bool {
+        matches!(self, Kind::ZeroRay | Kind::HijackRay)
+    }
+
+    /// Whether the run takes the session of the feed already publishing.
+    pub fn hijacks(self) -> bool {
+        matches!(self, Kind::HijackSequence | Kind::HijackRay)
     }
 
     /// All names, comma-separated, for error messages and help.

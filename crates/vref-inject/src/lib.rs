@@ -105,6 +105,43 @@ pub fn messages(kind: Kind, target: &Target, round: u64) -> Vec<Message> {
             .iter()
             .map(|s| snapshot_of(target, s + round * BACKWARDS[0], valid()))
             .collect(),
+        Kind::FutureStamp | Kind::OldStamp => {
+            let mut message = snapshot(valid());
+            if let Message::Snapshot { header, .. } = &mut message {
+                header.timestamp_ns = if kind == Kind::FutureStamp {
+                    target.timestamp_ns.saturating_add(AN_HOUR_NS)
+                } else {
+                    target.timestamp_ns.saturating_sub(AN_HOUR_NS)
+                };
+            }
+            vec![message]
+        }
+        Kind::HijackSequence => vec![snapshot_of(target, u64::MAX, valid())],
+        Kind::HijackRay => vec![Message::Ray(hijack_ray(target))],
+    }
+}
+
+/// How far `future-stamp` and `old-stamp` are off.
+pub const AN_HOUR_NS: u64 = 3_600_000_000_000;
+
+/// The human object `hijack-ray` points at.
+pub const HIJACK_RAY_TARGET: u64 = 3;
+
+fn hijack_ray(target: &Target) -> PointingRay {
+    let at = valid_objects(Side::Human)
+        .into_iter()
+        .find(|o| o.track_id == HIJACK_RAY_TARGET)
+        .map_or([0.0, 0.0, 1.0], |o| o.position);
+    PointingRay {
+        session: target.session,
+        sequence: u64::MAX,
+        timestamp_ns: target.timestamp_ns,
+        origin: [0.0; 3],
+        direction: at,
+        cone_half_angle: 0.05,
+        confidence: 0.9,
+        schema_version: SCHEMA_VERSION,
+        reserved: 0,
     }
 }
 

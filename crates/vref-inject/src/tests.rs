@@ -106,6 +106,30 @@ fn stateful_kinds_are_well_formed_alone() {
     assert_ne!(OTHER_FEATURE_DIM, VALID_FEATURE_DIM);
 }
 
+/// Well-formed too: only the stamp, or the session they take over, is
+/// wrong, which the matcher's intake judges.
+#[test]
+fn stamp_and_hijack_kinds_are_well_formed_alone() {
+    for kind in [Kind::FutureStamp, Kind::OldStamp] {
+        assert_eq!(verdicts(kind, Side::Robot), vec![Ok(1)], "{kind}");
+    }
+    assert_eq!(
+        verdicts(Kind::HijackSequence, Side::Robot),
+        vec![Ok(u64::MAX)]
+    );
+    assert_eq!(verdicts(Kind::HijackRay, Side::Robot), vec![Ok(u64::MAX)]);
+    let stamps: Vec<u64> = [Kind::FutureStamp, Kind::OldStamp]
+        .into_iter()
+        .flat_map(|k| messages(k, &target(Side::Robot), 0))
+        .filter_map(|m| match m {
+            Message::Snapshot { header, .. } => Some(header.timestamp_ns),
+            Message::Ray(_) => None,
+        })
+        .collect();
+    assert_eq!(stamps, vec![1 + AN_HOUR_NS, 0]);
+    assert!(Kind::HijackRay.is_ray() && Kind::HijackRay.hijacks());
+}
+
 #[test]
 fn later_rounds_move_sequences_forward() {
     let sequences = |round| -> Vec<u64> {

@@ -1,5 +1,4 @@
-use std::time::{Duration, Instant};
-
+use nalgebra::Point3;
 use vref_wire::{
     Alternative, AnswerStatus, MAX_ALTERNATIVES, PointingRay, QueryKind, Ray, ReferenceAnswer,
     ReferenceQuery, SCHEMA_VERSION,
@@ -7,12 +6,28 @@ use vref_wire::{
 
 use crate::ReferenceState;
 use crate::resolve_ray;
-use crate::state::Feed;
+use crate::solver::Solved;
+use crate::stamp::{Now, capture_age, micros};
+
+/// What a solution concluded about one human object (row): the status an
+/// answer or a published decision gives it, before any staleness.
+pub fn outcome(confidence: f64, partnered: bool, ambiguity_threshold: f64) -> AnswerStatus {
+    // Below the threshold the robot should ask "which one?", whether the
+    // unsure answer is a partner or "no partner".
+    if confidence < ambiguity_threshold {
+        AnswerStatus::Ambiguous
+    } else if partnered {
+        AnswerStatus::Ok
+    } else {
+        AnswerStatus::NoMatch
+    }
+}
 
 impl ReferenceState {
-    /// Answers a reference query from the cached solution, solving first
-    /// if the snapshots changed since.
-    pub fn answer(&mut self, query: &ReferenceQuery, now: Instant) -> ReferenceAnswer {
+    /// Answers a reference query from the latest finished solution and the
+    /// snapshots it was solved for; never solves and makes no heap
+    /// allocation.
+    pub fn answer(&self, query: &ReferenceQuery, now: &Now) -> ReferenceAnswer {
         let mut answer = ReferenceAnswer::empty(query.request_id, AnswerStatus::BadRequest);
         if query.schema_version != SCHEMA_VERSION {
             return answer;
@@ -23,44 +38,40 @@ impl ReferenceState {
             k if k == QueryKind::LatestGesture as u32 => QueryKind::LatestGesture,
             _ => return answer,
         };
-        let (Some(robot), Some(human)) = (&self.robot, &self.human) else {
+        let Some(solved) = self.solved.as_deref() else {
             answer.status = AnswerStatus::NotReady as u32;
             return answer;
         };
-        let ages = (age(robot, now), age(human, now));
-        answer.robot_sequence = robot.snapshot.sequence;
-        answer.human_sequence = human.snapshot.sequence;
-        answer.robot_age_us = micros(ages.0);
-        answer.human_age_us = micros(ages.1);
-
-        let Some(human_index) = self.human_target(kind, query, &mut answer) else {
-            return self.mark_stale(answer, ages);
-        };
-        answer.human_object_id = self
-            .human
-            .as_ref()
-            .map_or(0, |h| h.snapshot.graph.objects()[human_index].id);
-        match self.refresh() {
-            Ok(true) => answer.flags |= ReferenceAnswer::FLAG_SOLVED,
-            Ok(false) => {}
-            Err(_) => {
-                answer.status = AnswerStatus::NotReady as u32;
-                return answer;
-            }
+        answer.robot_sequence = solved.robot.sequence;
+        answer.human_sequence = solved.human.sequence;
+        answer.robot_age_us = micros(capture_age(solved.robot.timestamp_ns, now));
+        answer.human_age_us = micros(capture_age(solved.human.timestamp_ns, now));
+        answer.solve_age_us = micros(
+            now.instant
+                .saturating_duration_since(solved.finished.instant),
+        );
+        if solved.real {
+            answer.flags |= ReferenceAnswer::FLAG_SOLVED;
         }
-        self.fill_match(human_index, &mut answer);
-        self.mark_stale(answer, ages)
+        let Some(row) = self.human_target(solved, kind, query, now, &mut answer) else {
+            return self.mark_stale(answer);
+        };
+        answer.human_object_id = solved.human.graph.objects()[row].id;
+        self.fill_match(solved, row, &mut answer);
+        self.mark_stale(answer)
     }
 
-    /// The human-view object the query is about; `None` with the answer's
-    /// status set when there is none.
+    /// The row of the solved human view the query is about; `None` with
+    /// the answer's status set when there is none.
     fn human_target(
         &self,
+        solved: &Solved,
         kind: QueryKind,
         query: &ReferenceQuery,
+        now: &Now,
         answer: &mut ReferenceAnswer,
     ) -> Option<usize> {
-        let graph = &self.human.as_ref()?.snapshot.graph;
+        let graph = &solved.human.graph;
         let by_ray = |ray: &Ray, answer: &mut ReferenceAnswer| {
             let found = resolve_ray(graph, ray);
             if found.is_none() {
@@ -84,7 +95,11 @@ impl ReferenceState {
                 }
             },
             QueryKind::LatestGesture => match &self.gesture {
-                Some(ray) => by_ray(ray, answer),
+                Some(ray) => {
+                    // At least 1 us, so that 0 keeps meaning "no stored ray".
+                    answer.ray_age_us = micros(capture_age(ray.timestamp_ns, now)).max(1);
+                    by_ray(ray, answer)
+                }
                 None => {
                     answer.status = AnswerStatus::NotReady as u32;
                     None
@@ -94,15 +109,11 @@ impl ReferenceState {
     }
 
     /// Writes the robot object matched to human object `row` (if any),
-    /// the solution's confidence in that answer and the next-best
-    /// alternatives.
-    fn fill_match(&self, row: usize, answer: &mut ReferenceAnswer) {
-        let solution = self.cached.and(self.engine.solution());
-        let (Some(solution), Some(robot)) = (solution, &self.robot) else {
-            answer.status = AnswerStatus::NotReady as u32;
-            return;
-        };
-        let objects = robot.snapshot.graph.objects();
+    /// the solution's confidence in that answer, the next-best
+    /// alternatives and the answered object in the human view's frame.
+    fn fill_match(&self, solved: &Solved, row: usize, answer: &mut ReferenceAnswer) {
+        let solution = &solved.solution;
+        let objects = solved.robot.graph.objects();
         let m = objects.len();
         let soft = &solution.soft[row * m..(row + 1) * m];
         let total: f64 = soft.iter().map(|v| v.max(0.0)).sum();
@@ -116,10 +127,21 @@ impl ReferenceState {
         let confidence = solution.confidence.get(row).copied().unwrap_or(0.0);
         let assigned = solution.assignment.get(row).copied().flatten();
         answer.confidence = confidence as f32;
+        let human_object = &solved.human.graph.objects()[row];
+        answer.human_frame_position = to_f32(&human_object.position);
+        answer.flags |= ReferenceAnswer::FLAG_HUMAN_POSITION;
         if let Some(col) = assigned {
             let matched = &objects[col];
             answer.robot_track_id = matched.id;
-            answer.position = matched.position.coords.map(|c| c as f32).into();
+            answer.position = to_f32(&matched.position);
+            // Where the robot's object is in the headset's frame: through
+            // the motion the answer rests on, when the method gives one.
+            if let Some(motion) = &solution.motion {
+                let back =
+                    motion.rotation.transpose() * (matched.position.coords - motion.translation);
+                answer.human_frame_position = to_f32(&Point3::from(back));
+                answer.flags |= ReferenceAnswer::FLAG_HUMAN_POSITION_FROM_MOTION;
+            }
         }
         // Alternatives: the best other columns (all columns when the
         // answer is "no partner"), with their soft shares.
@@ -138,30 +160,28 @@ impl ReferenceState {
             count += 1;
         }
         answer.alternative_count = count;
-        // Below the threshold the robot should ask "which one?", whether
-        // the unsure answer is a partner or "no partner".
-        answer.status = if confidence < self.ambiguity_threshold {
-            AnswerStatus::Ambiguous as u32
-        } else if assigned.is_none() {
-            AnswerStatus::NoMatch as u32
-        } else {
-            AnswerStatus::Ok as u32
-        };
+        answer.status = outcome(confidence, assigned.is_some(), self.ambiguity_threshold) as u32;
     }
 
-    /// Answers from a feed that went silent are `stale`, whatever else
-    /// they say: the robot must not act on them as current.
-    fn mark_stale(
-        &self,
-        mut answer: ReferenceAnswer,
-        (robot, human): (Duration, Duration),
-    ) -> ReferenceAnswer {
-        let bad_request = answer.status == AnswerStatus::BadRequest as u32;
-        if !bad_request && (robot > self.stale_after || human > self.stale_after) {
+    /// Answers resting on a snapshot or a ray captured too long ago are
+    /// `stale`, whatever else they say: the robot must not act on them as
+    /// current.
+    fn mark_stale(&self, mut answer: ReferenceAnswer) -> ReferenceAnswer {
+        let status = answer.status();
+        if matches!(status, AnswerStatus::BadRequest | AnswerStatus::NotReady) {
+            return answer;
+        }
+        let limit = micros(self.stale_after);
+        let ray_old = answer.ray_age_us > micros(self.ray_max_age);
+        if answer.robot_age_us > limit || answer.human_age_us > limit || ray_old {
             answer.status = AnswerStatus::Stale as u32;
         }
         answer
     }
+}
+
+fn to_f32(p: &Point3<f64>) -> [f32; 3] {
+    [p.x as f32, p.y as f32, p.z as f32]
 }
 
 /// The columns with the highest soft values other than `chosen`, best
@@ -187,14 +207,6 @@ fn next_best(soft: &[f64], chosen: usize) -> [Option<usize>; MAX_ALTERNATIVES] {
         }
     }
     best
-}
-
-fn age(feed: &Feed, now: Instant) -> Duration {
-    now.saturating_duration_since(feed.received_at)
-}
-
-fn micros(d: Duration) -> u64 {
-    u64::try_from(d.as_micros()).unwrap_or(u64::MAX)
 }
 
 fn query_ray(query: &ReferenceQuery) -> PointingRay {

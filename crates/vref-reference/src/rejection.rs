@@ -22,10 +22,21 @@ pub enum RejectReason {
     FeatureDimOtherSide,
     SequenceBackwards,
     BadRay,
+    /// Stamped further in the future than the clock skew allowed.
+    TimestampFuture,
+    /// Stamped longer ago than any capture time the matcher believes.
+    TimestampTooOld,
+    /// A sequence number further ahead than its publisher could have
+    /// counted since its last accepted message.
+    SequenceJump,
+    /// A query from a client over its rate, dropped unanswered.
+    QueryOverRate,
 }
 
 impl RejectReason {
-    pub const ALL: [RejectReason; 16] = [
+    /// In counter order: new reasons go at the end, so that the index of
+    /// every earlier one (its slot in `MatcherStats::rejected`) stays.
+    pub const ALL: [RejectReason; 20] = [
         RejectReason::SchemaVersion,
         RejectReason::WrongSide,
         RejectReason::CountExceedsSlice,
@@ -42,6 +53,10 @@ impl RejectReason {
         RejectReason::FeatureDimOtherSide,
         RejectReason::SequenceBackwards,
         RejectReason::BadRay,
+        RejectReason::TimestampFuture,
+        RejectReason::TimestampTooOld,
+        RejectReason::SequenceJump,
+        RejectReason::QueryOverRate,
     ];
 
     pub fn name(self) -> &'static str {
@@ -62,6 +77,10 @@ impl RejectReason {
             RejectReason::FeatureDimOtherSide => "feature_dim_other_side",
             RejectReason::SequenceBackwards => "sequence_backwards",
             RejectReason::BadRay => "bad_ray",
+            RejectReason::TimestampFuture => "timestamp_future",
+            RejectReason::TimestampTooOld => "timestamp_too_old",
+            RejectReason::SequenceJump => "sequence_jump",
+            RejectReason::QueryOverRate => "query_over_rate",
         }
     }
 

@@ -11,8 +11,28 @@ pub struct MatcherSettings {
     /// Solver tier: `live` (candidate pairs pruned by appearance, early
     /// stop, warm start across snapshots) or `exact` (ALGORITHMS.md).
     pub tier: String,
-    /// A feed silent for longer makes answers `stale`, milliseconds.
+    /// Answers resting on a snapshot captured longer ago than this (its
+    /// `timestamp_ns` against this machine's clock) are `stale`, ms. Half
+    /// of it is the freshness budget a solve at `[scene] capacity` must fit
+    /// (crate::budget).
     pub stale_after_ms: u64,
+    /// Latest-gesture answers resting on a ray captured longer ago than
+    /// this are `stale`, ms.
+    pub ray_max_age_ms: u64,
+    /// How far a publisher's clock may run ahead of this one's: a message
+    /// stamped further in the future is refused, one within it counts as
+    /// captured now, ms.
+    pub max_clock_skew_ms: u64,
+    /// A message stamped longer ago than this is refused: no feed delivers
+    /// that late, so the stamp is wrong, ms.
+    pub max_capture_age_ms: u64,
+    /// Queries a client may have answered per second (bursts of a tenth of
+    /// a second's worth); the rest are dropped unanswered and counted.
+    pub max_queries_per_client_hz: f64,
+    /// Nice value of the solver thread (0 to 19): above 0 the query path,
+    /// the feeds and the clients run first, and the solve takes what CPU
+    /// is left (all of a core on a machine with one to spare).
+    pub solver_nice: i32,
     /// How often dead nodes of crashed processes are cleaned up, ms.
     pub cleanup_interval_ms: u64,
     /// Answers whose confidence is below this are `ambiguous` (with the
@@ -29,6 +49,11 @@ impl Default for MatcherSettings {
             method: "rigid".to_owned(),
             tier: "live".to_owned(),
             stale_after_ms: 500,
+            ray_max_age_ms: 2000,
+            max_clock_skew_ms: 100,
+            max_capture_age_ms: 10_000,
+            max_queries_per_client_hz: 2000.0,
+            solver_nice: 10,
             cleanup_interval_ms: 250,
             ambiguity_threshold: 0.5,
         }

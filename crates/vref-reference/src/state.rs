@@ -1,10 +1,13 @@
-use std::time::{Duration, Instant};
+use std::sync::Arc;
+use std::time::Duration;
 
-use vref_match::engine::Engine;
-use vref_match::{MatchError, Params};
+use vref_match::MatchError;
 use vref_scene::{Limits, Side};
 use vref_wire::{ObjectEntry, PointingRay, Ray, SnapshotHeader, ValidSnapshot, validate_snapshot};
 
+use crate::sequence::{Origin, Placement, Sequencer};
+use crate::solver::{Pair, Solved};
+use crate::stamp::{Now, StampLimits};
 use crate::{MatcherSettings, RejectReason, Rejections};
 
 /// A message refused, with the counter it went to and what was wrong.
@@ -15,87 +18,85 @@ pub struct Rejected {
     pub detail: String,
 }
 
-#[derive(Debug, Clone)]
-pub(crate) struct Feed {
-    pub snapshot: ValidSnapshot,
-    pub received_at: Instant,
+/// A message taken: how it fits its publisher's order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Accepted {
+    pub placement: Placement,
 }
 
-/// The pair of snapshots the engine's solution is for, each named by its
-/// (session, sequence). The solution itself stays in the engine.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Cached {
-    pub robot: SnapshotKey,
-    pub human: SnapshotKey,
-}
-
-/// A snapshot's (session, sequence).
-type SnapshotKey = (u64, u64);
-
-/// Everything the matcher knows.
+/// What the matcher's intake and query path know: the newest accepted
+/// snapshot of each side and pointing ray, and the latest finished
+/// solution (with the snapshots it was solved for), which is what queries
+/// read. Solving happens elsewhere ([`crate::Solver`]); this never waits
+/// for it.
 #[derive(Debug)]
 pub struct ReferenceState {
     pub(crate) limits: Limits,
     pub(crate) stale_after: Duration,
+    pub(crate) ray_max_age: Duration,
     pub(crate) ambiguity_threshold: f64,
-    pub(crate) robot: Option<Feed>,
-    pub(crate) human: Option<Feed>,
+    stamps: StampLimits,
+    robot: Option<Arc<ValidSnapshot>>,
+    human: Option<Arc<ValidSnapshot>>,
     pub(crate) gesture: Option<Ray>,
-    pub(crate) cached: Option<Cached>,
-    /// Incremental solver, holding the solution `cached` names; `fed_*`
-    /// name the snapshots it holds.
-    pub(crate) engine: Engine,
-    fed_robot: Option<SnapshotKey>,
-    fed_human: Option<SnapshotKey>,
+    pub(crate) solved: Option<Arc<Solved>>,
+    /// Robot snapshots, human snapshots, rays.
+    order: [Sequencer; 3],
     rejections: Rejections,
-    solves: u64,
 }
 
+const RAYS: usize = 2;
+
 impl ReferenceState {
-    pub fn new(
-        settings: &MatcherSettings,
-        params: Params,
-        limits: Limits,
-    ) -> Result<Self, MatchError> {
-        params.validate()?;
-        let method = settings.method()?;
+    pub fn new(settings: &MatcherSettings, limits: Limits) -> Result<Self, MatchError> {
+        settings.method()?;
+        settings.tier()?;
+        let stale_after = Duration::from_millis(settings.stale_after_ms);
+        // A feed locked out this long would have made answers stale anyway.
+        let order = || Sequencer::new(stale_after);
         Ok(Self {
-            engine: Engine::new(method, settings.tier()?, params)?,
-            fed_robot: None,
-            fed_human: None,
             limits,
-            stale_after: Duration::from_millis(settings.stale_after_ms),
+            stale_after,
+            ray_max_age: Duration::from_millis(settings.ray_max_age_ms),
             ambiguity_threshold: settings.ambiguity_threshold,
+            stamps: StampLimits {
+                max_skew: Duration::from_millis(settings.max_clock_skew_ms),
+                max_age: Duration::from_millis(settings.max_capture_age_ms),
+            },
             robot: None,
             human: None,
             gesture: None,
-            cached: None,
+            solved: None,
+            order: [order(), order(), order()],
             rejections: Rejections::default(),
-            solves: 0,
         })
     }
 
-    /// Takes a snapshot read from `side`'s service, or refuses it (counted)
-    /// and keeps the last good one.
+    /// Takes a snapshot read from `side`'s service, sent by publisher port
+    /// `origin`, or refuses it (counted) and keeps the last good one.
     pub fn accept_snapshot(
         &mut self,
         side: Side,
+        origin: Origin,
         header: &SnapshotHeader,
         entries: &[ObjectEntry],
-        now: Instant,
-    ) -> Result<(), Rejected> {
-        let result = self.check_snapshot(side, header, entries);
+        now: &Now,
+    ) -> Result<Accepted, Rejected> {
+        let result = self.check_snapshot(side, origin, header, entries, now);
         match result {
-            Ok(snapshot) => {
-                let feed = Some(Feed {
-                    snapshot,
-                    received_at: now,
-                });
-                match side {
-                    Side::Robot => self.robot = feed,
-                    Side::Human => self.human = feed,
-                }
-                Ok(())
+            Ok((snapshot, placement)) => {
+                self.order[side as usize].record(
+                    origin,
+                    snapshot.session,
+                    snapshot.sequence,
+                    now.instant,
+                );
+                let slot = match side {
+                    Side::Robot => &mut self.robot,
+                    Side::Human => &mut self.human,
+                };
+                *slot = Some(Arc::new(snapshot));
+                Ok(Accepted { placement })
             }
             Err(rejected) => {
                 self.rejections.count(rejected.reason);
@@ -105,37 +106,25 @@ impl ReferenceState {
     }
 
     fn check_snapshot(
-        &self,
+        &mut self,
         side: Side,
+        origin: Origin,
         header: &SnapshotHeader,
         entries: &[ObjectEntry],
-    ) -> Result<ValidSnapshot, Rejected> {
+        now: &Now,
+    ) -> Result<(ValidSnapshot, Placement), Rejected> {
         let snapshot =
             validate_snapshot(header, entries, side, &self.limits).map_err(|e| Rejected {
                 reason: RejectReason::of(&e),
                 detail: e.to_string(),
             })?;
-        let (own, other) = match side {
-            Side::Robot => (&self.robot, &self.human),
-            Side::Human => (&self.human, &self.robot),
+        self.stamps.check(snapshot.timestamp_ns, now)?;
+        let other = match side {
+            Side::Robot => &self.human,
+            Side::Human => &self.robot,
         };
-        if let Some(last) = own
-            && last.snapshot.session == snapshot.session
-            && snapshot.sequence <= last.snapshot.sequence
-        {
-            return Err(Rejected {
-                reason: RejectReason::SequenceBackwards,
-                detail: format!(
-                    "sequence {} after {} in the same session",
-                    snapshot.sequence, last.snapshot.sequence
-                ),
-            });
-        }
         if let Some(other) = other {
-            let (mine, theirs) = (
-                snapshot.graph.feature_dim(),
-                other.snapshot.graph.feature_dim(),
-            );
+            let (mine, theirs) = (snapshot.graph.feature_dim(), other.graph.feature_dim());
             if mine != 0 && theirs != 0 && mine != theirs {
                 return Err(Rejected {
                     reason: RejectReason::FeatureDimOtherSide,
@@ -143,28 +132,42 @@ impl ReferenceState {
                 });
             }
         }
-        Ok(snapshot)
+        // Last: only a message that would otherwise be taken may count
+        // towards its port's resynchronisation.
+        let placement = self.order[side as usize].place(
+            origin,
+            snapshot.session,
+            snapshot.sequence,
+            now.instant,
+        )?;
+        Ok((snapshot, placement))
     }
 
-    /// Takes a pointing ray, or refuses it (counted).
-    pub fn accept_ray(&mut self, ray: &PointingRay) -> Result<(), Rejected> {
-        let checked = ray.validate().map_err(|e| Rejected {
-            reason: RejectReason::of(&e),
-            detail: e.to_string(),
-        });
-        let checked = checked.and_then(|r| match &self.gesture {
-            Some(last) if last.session == r.session && r.sequence <= last.sequence => {
-                Err(Rejected {
-                    reason: RejectReason::SequenceBackwards,
-                    detail: format!("ray sequence {} after {}", r.sequence, last.sequence),
-                })
-            }
-            _ => Ok(r),
-        });
+    /// Takes a pointing ray sent by publisher port `origin`, or refuses it
+    /// (counted).
+    pub fn accept_ray(
+        &mut self,
+        origin: Origin,
+        ray: &PointingRay,
+        now: &Now,
+    ) -> Result<Accepted, Rejected> {
+        let checked = ray
+            .validate()
+            .map_err(|e| Rejected {
+                reason: RejectReason::of(&e),
+                detail: e.to_string(),
+            })
+            .and_then(|r| {
+                self.stamps.check(r.timestamp_ns, now)?;
+                let placement =
+                    self.order[RAYS].place(origin, r.session, r.sequence, now.instant)?;
+                Ok((r, placement))
+            });
         match checked {
-            Ok(r) => {
+            Ok((r, placement)) => {
+                self.order[RAYS].record(origin, r.session, r.sequence, now.instant);
                 self.gesture = Some(r);
-                Ok(())
+                Ok(Accepted { placement })
             }
             Err(rejected) => {
                 self.rejections.count(rejected.reason);
@@ -173,65 +176,46 @@ impl ReferenceState {
         }
     }
 
-    /// Solves for the latest pair of snapshots unless the cached solution
-    /// is already theirs. Returns whether a solve ran.
-    pub fn refresh(&mut self) -> Result<bool, MatchError> {
-        let (Some(robot), Some(human)) = (&self.robot, &self.human) else {
-            return Ok(false);
-        };
-        let key = |f: &Feed| (f.snapshot.session, f.snapshot.sequence);
-        let (rk, hk) = (key(robot), key(human));
-        if self
-            .cached
-            .as_ref()
-            .is_some_and(|c| c.robot == rk && c.human == hk)
-        {
-            return Ok(false);
-        }
-        // The engine diffs each new snapshot by track id against the one
-        // it holds, so only changed objects cost work.
-        if self.fed_robot != Some(rk) {
-            self.engine.update(Side::Robot, &robot.snapshot.graph)?;
-            self.fed_robot = Some(rk);
-        }
-        if self.fed_human != Some(hk) {
-            self.engine.update(Side::Human, &human.snapshot.graph)?;
-            self.fed_human = Some(hk);
-        }
-        self.engine.solve()?;
-        self.cached = Some(Cached {
-            robot: rk,
-            human: hk,
-        });
-        self.solves += 1;
-        Ok(true)
+    /// The newest accepted snapshot of each side, once both have one.
+    pub fn latest_pair(&self) -> Option<Pair> {
+        Some(Pair {
+            robot: self.robot.clone()?,
+            human: self.human.clone()?,
+        })
+    }
+
+    /// Makes `solved` the solution queries read; returns the one it
+    /// replaces, so the caller can free it off the query path.
+    pub fn install(&mut self, solved: Arc<Solved>) -> Option<Arc<Solved>> {
+        self.solved.replace(solved)
+    }
+
+    /// The solution queries read now.
+    pub fn solution(&self) -> Option<&Solved> {
+        self.solved.as_deref()
+    }
+
+    /// Real solves behind the solution queries read now.
+    pub fn solves(&self) -> u64 {
+        self.solved.as_ref().map_or(0, |s| s.solves)
     }
 
     pub fn rejections(&self) -> &Rejections {
         &self.rejections
     }
 
-    /// Solves run so far.
-    pub fn solves(&self) -> u64 {
-        self.solves
+    /// Counts a refusal made outside this state (a query over its
+    /// client's rate).
+    pub fn count_rejection(&mut self, reason: RejectReason) {
+        self.rejections.count(reason);
     }
 
     /// The last valid snapshot of a side.
     pub fn snapshot(&self, side: Side) -> Option<&ValidSnapshot> {
         match side {
-            Side::Robot => self.robot.as_ref(),
-            Side::Human => self.human.as_ref(),
+            Side::Robot => self.robot.as_deref(),
+            Side::Human => self.human.as_deref(),
         }
-        .map(|f| &f.snapshot)
-    }
-
-    /// How long ago the last valid snapshot of `side` arrived.
-    pub fn age(&self, side: Side, now: Instant) -> Option<Duration> {
-        match side {
-            Side::Robot => self.robot.as_ref(),
-            Side::Human => self.human.as_ref(),
-        }
-        .map(|f| now.saturating_duration_since(f.received_at))
     }
 
     pub fn latest_ray(&self) -> Option<&Ray> {

@@ -200,9 +200,10 @@ impl AnswerStatus {
 }
 
 impl ReferenceAnswer {
-    /// The matcher solved the latest pair of snapshots for this answer;
-    /// without it the answer came from the cached solution (or from no
-    /// solution at all, when the status says it could not match).
+    /// A real solve made the answering solution; without it the solution
+    /// was carried over from the previous solve because both snapshots
+    /// held exactly its objects (or there was no solution at all, when the
+    /// status says it could not match). Answers never wait for a solve.
     pub const FLAG_SOLVED: u32 = 1;
     /// `human_frame_position` holds the answered object in the human
     /// view's frame.

@@ -1,11 +1,18 @@
-//! `vref-matcher`: the matcher service. Waits on both feeds, the gesture
-//! feed and reference requests with one WaitSet; keeps the last valid
-//! snapshot of each side; answers queries from the cached solution.
+//! `vref-matcher`: the matcher service. One thread waits on both feeds,
+//! the gesture feed and reference requests with one WaitSet: it takes
+//! snapshots and rays, answers every query from the latest finished
+//! solution, publishes statistics and cleans up dead nodes. A second
+//! thread solves the newest pair of snapshots whenever one arrives and
+//! publishes each decision (docs/reliability.md).
 //!
 //! Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running,
-//! 2 bad configuration.
+//! 2 bad configuration (including one that cannot solve within its
+//! freshness budget).
 
+mod priority;
+mod reject_log;
 mod service;
+mod solving;
 mod stats;
 
 use std::path::PathBuf;

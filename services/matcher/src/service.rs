@@ -1,3 +1,4 @@
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, anyhow};
@@ -5,25 +6,41 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use vref_config::Config;
-use vref_reference::ReferenceState;
+use vref_reference::{Now, Placement, QueryRate, ReferenceState, RejectReason, Rejected, Solver};
 use vref_scene::Side;
 use vref_wire::ipc::{
     ReferenceServer, StatsPublisher, answer_waiting, create_node, open_answer_event, open_gesture,
     open_reference, open_request_event, open_snapshot,
 };
-use vref_wire::{ObjectEntry, SnapshotHeader};
+use vref_wire::{ObjectEntry, PointingRay, SnapshotHeader};
 
+use crate::reject_log::RejectLog;
+use crate::solving::{Handoff, Publishing, SolverThread};
 use crate::stats::{self, Counters};
 
-/// How often the matcher logs what it has done.
+/// How often the matcher logs what it has done, and sums up the
+/// rejections it did not log one by one.
 const REPORT_EVERY: Duration = Duration::from_secs(10);
 
 type SnapshotSubscriber = Subscriber<ipc::Service, [ObjectEntry], SnapshotHeader>;
+type GestureSubscriber = Subscriber<ipc::Service, PointingRay, ()>;
+
+/// What the WaitSet thread works on.
+struct Intake {
+    state: ReferenceState,
+    counters: Counters,
+    rejections: RejectLog,
+    rate: QueryRate,
+    handoff: Arc<Handoff>,
+    /// Version of the solution installed last.
+    installed: u64,
+}
 
 /// Runs until SIGINT or SIGTERM.
 pub fn run(config: &Config) -> anyhow::Result<()> {
-    let mut state = ReferenceState::new(&config.matcher, config.matching, config.scene.limits())
+    let state = ReferenceState::new(&config.matcher, config.scene.limits())
         .context("matcher configuration")?;
+    let solver = Solver::new(&config.matcher, config.matching).context("matcher configuration")?;
     let ipc = &config.ipc;
     let node = create_node(ipc, "vref-matcher")?;
     // A predecessor killed without cleanup may still hold ports.
@@ -94,8 +111,36 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
         .attach_interval(stats::PUBLISH_EVERY)
         .map_err(|e| attach(&e))?;
 
-    tracing::info!(namespace = %ipc.namespace, method = %config.matcher.method, "matcher ready");
-    let mut counters = Counters::new();
+    let handoff = Arc::new(Handoff::default());
+    let solver_thread = SolverThread::spawn(
+        solver,
+        handoff.clone(),
+        Publishing {
+            ipc: ipc.clone(),
+            nice: config.matcher.solver_nice,
+            budget: Duration::from_millis(vref_reference::freshness_budget_ms(&config.matcher)),
+            method: config.matcher.method.clone(),
+            ambiguity_threshold: config.matcher.ambiguity_threshold,
+        },
+    )?;
+    let mut intake = Intake {
+        state,
+        counters: Counters::new(),
+        rejections: RejectLog::new(REPORT_EVERY, Instant::now()),
+        // Room for every client and as many dead ones.
+        rate: QueryRate::new(
+            config.matcher.max_queries_per_client_hz,
+            2 * ipc.max_clients,
+        ),
+        handoff,
+        installed: 0,
+    };
+    tracing::info!(
+        namespace = %ipc.namespace,
+        method = %config.matcher.method,
+        tier = %config.matcher.tier,
+        "matcher ready"
+    );
     let mut silent = [false; 2];
     let mut last_report = Instant::now();
     let on_event = |id: WaitSetAttachmentId<ipc::Service>| {
@@ -106,7 +151,7 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
             let flag = &mut silent[side as usize];
             if id.has_event_from(guard) {
                 drain(listener);
-                take_snapshot(&mut state, &mut counters, side, sub);
+                intake.take_snapshot(side, sub);
                 if *flag {
                     tracing::info!(%side, "feed is back");
                     *flag = false;
@@ -119,19 +164,22 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
         }
         if id.has_event_from(&gesture_guard) {
             drain(&gesture_listener);
-            take_ray(&mut state, &gesture_sub);
+            intake.take_rays(&gesture_sub);
         }
         if id.has_event_from(&request_guard) {
             drain(&request_listener);
         }
-        // Requests are served on every wake-up: a client's notification
-        // may have been merged with another event.
-        let served = serve(&mut state, &mut counters, &server);
+        // The newest finished solve, then every waiting request: a
+        // client's notification may have been merged with another event.
+        let retired = intake.install_newest();
+        let served = intake.serve(&server);
         if served > 0
             && let Err(e) = answer_notifier.notify()
         {
             tracing::warn!("notifying answers: {e:?}");
         }
+        // Freed after the answers went out.
+        drop(retired);
         if id.has_event_from(&cleanup_guard) {
             let cleanup = node.try_cleanup_dead_nodes();
             if cleanup.cleanups > 0 || cleanup.failed_cleanups > 0 {
@@ -143,16 +191,18 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
             }
         }
         if id.has_event_from(&stats_guard)
-            && let Err(e) = stats_publisher.publish(&counters.message(&state))
+            && let Err(e) = stats_publisher.publish(&intake.counters.message(&intake.state))
         {
             tracing::warn!("publishing statistics: {e}");
         }
+        intake.summarise_rejections();
         if last_report.elapsed() >= REPORT_EVERY {
             last_report = Instant::now();
             tracing::info!(
-                answered = counters.answered(),
-                solves = state.solves(),
-                rejected = state.rejections().total(),
+                answered = intake.counters.answered(),
+                solves = intake.state.solves(),
+                coalesced = intake.handoff.jobs.coalesced(),
+                rejected = intake.state.rejections().total(),
                 "status"
             );
         }
@@ -160,85 +210,185 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
     };
     let result = waitset
         .wait_and_process(on_event)
-        .map_err(|e| anyhow!("waiting: {e:?}"))?;
+        .map_err(|e| anyhow!("waiting: {e:?}"));
+    solver_thread.stop();
+    let result = result?;
     tracing::info!(
         ?result,
-        answered = counters.answered(),
-        solves = state.solves(),
+        answered = intake.counters.answered(),
+        solves = intake.state.solves(),
         "matcher stopped"
     );
-    for (reason, count) in state.rejections().nonzero() {
+    for (reason, count) in intake.state.rejections().nonzero() {
         tracing::info!(%reason, count, "rejected");
     }
     Ok(())
+}
+
+impl Intake {
+    /// Validates the newest snapshot in place and hands it to the state;
+    /// a new one goes to the solver.
+    fn take_snapshot(&mut self, side: Side, sub: &SnapshotSubscriber) {
+        let mut latest = None;
+        loop {
+            match sub.receive() {
+                Ok(Some(sample)) => latest = Some(sample),
+                Ok(None) => break,
+                Err(e) => {
+                    tracing::warn!(%side, "receiving a snapshot: {e:?}");
+                    break;
+                }
+            }
+        }
+        let Some(sample) = latest else {
+            return;
+        };
+        let origin = sample.header().publisher_id().value();
+        let accepted = self.state.accept_snapshot(
+            side,
+            origin,
+            sample.user_header(),
+            sample.payload(),
+            &Now::read(),
+        );
+        self.counters.snapshot(side, accepted.is_ok());
+        let service = match side {
+            Side::Robot => "robot snapshot",
+            Side::Human => "human snapshot",
+        };
+        match accepted {
+            Ok(a) => {
+                note_placement(service, a.placement, sample.user_header().session);
+                if let Some(pair) = self.state.latest_pair() {
+                    self.handoff.jobs.post(pair);
+                }
+            }
+            Err(rejected) => self.log_rejection(service, origin, &rejected),
+        }
+    }
+
+    fn take_rays(&mut self, sub: &GestureSubscriber) {
+        loop {
+            match sub.receive() {
+                Ok(Some(sample)) => {
+                    let origin = sample.header().publisher_id().value();
+                    match self
+                        .state
+                        .accept_ray(origin, sample.payload(), &Now::read())
+                    {
+                        Ok(a) => note_placement("ray", a.placement, sample.payload().session),
+                        Err(rejected) => self.log_rejection("ray", origin, &rejected),
+                    }
+                }
+                Ok(None) => break,
+                Err(e) => {
+                    tracing::warn!("receiving a ray: {e:?}");
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Makes the newest finished solution the one queries read; returns
+    /// the one it replaced, to be freed after serving.
+    fn install_newest(&mut self) -> Option<Arc<vref_reference::Solved>> {
+        let (version, solved) = self.handoff.solved.newer_than(self.installed)?;
+        self.installed = version;
+        self.state.install(solved)
+    }
+
+    /// Answers every waiting request; returns how many.
+    fn serve(&mut self, server: &ReferenceServer) -> u64 {
+        let Self {
+            state,
+            counters,
+            rejections,
+            rate,
+            ..
+        } = self;
+        let served = answer_waiting(
+            server,
+            |query, client| {
+                let now = Now::read();
+                if rate.allow(client, now.instant) {
+                    return Some(state.answer(query, &now));
+                }
+                state.count_rejection(RejectReason::QueryOverRate);
+                if rejections.note("query", RejectReason::QueryOverRate, client) {
+                    tracing::warn!(
+                        reason = %RejectReason::QueryOverRate,
+                        client = format_args!("{client:032x}"),
+                        "dropped a query: the client is over [matcher] max_queries_per_client_hz"
+                    );
+                }
+                None
+            },
+            |answer| counters.answer(answer.status()),
+        );
+        for failure in &served.failures {
+            tracing::warn!("{failure}");
+        }
+        served.sent
+    }
+
+    fn log_rejection(&mut self, service: &'static str, origin: u128, rejected: &Rejected) {
+        if self.rejections.note(service, rejected.reason, origin) {
+            tracing::warn!(
+                reason = %rejected.reason,
+                publisher = format_args!("{origin:032x}"),
+                "rejected {service}: {}",
+                rejected.detail
+            );
+        }
+    }
+
+    fn summarise_rejections(&mut self) {
+        let Some((summary, overflow)) = self.rejections.flush(Instant::now()) else {
+            return;
+        };
+        let interval = self.rejections.interval();
+        for s in summary {
+            tracing::warn!(
+                reason = %s.reason,
+                count = s.count,
+                ?interval,
+                "{} more of {} rejected for this reason in the last interval",
+                s.count,
+                s.service
+            );
+        }
+        if overflow > 0 {
+            tracing::warn!(
+                count = overflow,
+                ?interval,
+                "more rejections from other publishers"
+            );
+        }
+    }
+}
+
+/// New sessions and resynchronised ports are worth a line; the next
+/// message of a session is not.
+fn note_placement(service: &str, placement: Placement, session: u64) {
+    match placement {
+        Placement::Next => {}
+        Placement::NewPort | Placement::NewSession => {
+            tracing::info!(
+                session = format_args!("{session:016x}"),
+                "{service}: new session"
+            );
+        }
+        Placement::Resync => tracing::warn!(
+            session = format_args!("{session:016x}"),
+            "{service}: publisher taken again after its messages were refused as out of order"
+        ),
+    }
 }
 
 fn drain(listener: &Listener<ipc::Service>) {
     if let Err(e) = listener.try_wait(|_| {}) {
         tracing::warn!("draining a listener: {e:?}");
     }
-}
-
-/// Validates the newest snapshot in place and hands it to the state.
-fn take_snapshot(
-    state: &mut ReferenceState,
-    counters: &mut Counters,
-    side: Side,
-    sub: &SnapshotSubscriber,
-) {
-    let mut latest = None;
-    loop {
-        match sub.receive() {
-            Ok(Some(sample)) => latest = Some(sample),
-            Ok(None) => break,
-            Err(e) => {
-                tracing::warn!(%side, "receiving a snapshot: {e:?}");
-                break;
-            }
-        }
-    }
-    let Some(sample) = latest else {
-        return;
-    };
-    let accepted =
-        state.accept_snapshot(side, sample.user_header(), sample.payload(), Instant::now());
-    counters.snapshot(side, accepted.is_ok());
-    if let Err(rejected) = accepted {
-        tracing::warn!(%side, reason = %rejected.reason, "rejected snapshot: {}", rejected.detail);
-    }
-}
-
-fn take_ray(
-    state: &mut ReferenceState,
-    sub: &Subscriber<ipc::Service, vref_wire::PointingRay, ()>,
-) {
-    loop {
-        match sub.receive() {
-            Ok(Some(sample)) => {
-                if let Err(rejected) = state.accept_ray(sample.payload()) {
-                    tracing::warn!(reason = %rejected.reason, "rejected ray: {}", rejected.detail);
-                }
-            }
-            Ok(None) => break,
-            Err(e) => {
-                tracing::warn!("receiving a ray: {e:?}");
-                break;
-            }
-        }
-    }
-}
-
-/// Answers every waiting request; returns how many.
-fn serve(state: &mut ReferenceState, counters: &mut Counters, server: &ReferenceServer) -> u64 {
-    let served = answer_waiting(
-        server,
-        |query| state.answer(query, Instant::now()),
-        |answer| counters.answer(answer.status()),
-    );
-    for failure in &served.failures {
-        tracing::warn!("{failure}");
-    }
-    served.sent
 }
 
 fn port_error(what: &str, error: &dyn std::fmt::Debug) -> anyhow::Error {

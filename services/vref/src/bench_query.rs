@@ -1,7 +1,11 @@
 //! `vref bench query`: reference-query round trips against live services,
-//! split by whether the matcher answered from its cached solution or had
-//! to solve first, beside the bare iceoryx2 request/response round trip
-//! measured in the same run.
+//! all of them and split by whether the answer came from a solution the
+//! client had seen before ("cached") or from one published since its
+//! previous answer ("after a solve": the first answer from a new
+//! solution), beside the bare iceoryx2 request/response round trip
+//! measured in the same run. With `--compare-idle`, the same first with
+//! the feeds stopped (an idle matcher), so that what solves running
+//! beside the queries cost them shows.
 //!
 //! The bare round trip is served by `vref bench echo-server`, a separate
 //! process like the matcher, on the same services (ReferenceQuery to
@@ -21,8 +25,8 @@ use vref_feed::synthetic_world;
 use vref_scene::Side;
 use vref_sim::LiveWorld;
 use vref_wire::ipc::{
-    IpcSettings, ReferenceClient, answer_waiting, create_node, now_ns, open_answer_event,
-    open_reference, open_request_event,
+    DecisionReader, IpcSettings, ReferenceClient, answer_waiting, create_node, now_ns,
+    open_answer_event, open_reference, open_request_event,
 };
 use vref_wire::{AnswerStatus, ReferenceAnswer, ReferenceQuery};
 
@@ -84,18 +88,19 @@ pub fn query(args: &BenchQueryArgs) -> Result<(), Failure> {
     let mut system =
         Services::start_system(&binaries, &config_path, Some(args.objects), dir.path())
             .runtime()?;
-    let mut running = || {
-        system.ensure_running()?;
-        echo.ensure_running()
+    let restart = Restart {
+        binaries: &binaries,
+        config: &config_path,
+        objects: args.objects,
     };
-    let outcome = measure(args, &own, &world, &mut running);
+    let outcome = run_phases(args, &own, &world, &mut system, &mut echo, &restart);
     let stopped = system.stop().and(echo.stop());
     keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
-    let report = outcome.runtime()?;
+    let (report, idle) = outcome.runtime()?;
     let text = if args.json {
-        format!("{}\n", report.json(args, &config))
+        format!("{}\n", report.json(args, &config, idle.as_ref()))
     } else {
-        report.table(args, &config)
+        report.table(args, &config, idle.as_ref())
     };
     stdout::print(&text)?;
     stopped.runtime()
@@ -129,9 +134,15 @@ impl Samples {
 /// What one run measured.
 #[derive(Debug, Default)]
 struct Report {
+    /// Every matcher answer, whatever its status.
+    all: Samples,
     cached: Samples,
     solve: Samples,
     bare: Samples,
+    /// The matcher's solve times, from its published decisions.
+    solve_times: Samples,
+    /// The (robot, human) sequences of the last matcher answer.
+    last_solution: Option<(u64, u64)>,
     /// Matcher answers that never reached the solution (no such object
     /// any more, not ready, stale), by status.
     other: [u64; 6],
@@ -158,20 +169,88 @@ const ORDERS: [[Probe; 3]; 3] = [
     [Probe::Bare, Probe::Matcher, Probe::Matcher],
 ];
 
-fn measure(
+/// The feeds, which `--compare-idle` stops for its idle phase.
+const FEEDS: [&str; 2] = ["vref-perception-feed", "vref-gesture-feed"];
+
+/// How to start the feeds again after the idle phase.
+struct Restart<'a> {
+    binaries: &'a [std::path::PathBuf],
+    config: &'a std::path::Path,
+    objects: usize,
+}
+/// How long a phase change settles before measuring.
+const SETTLE: Duration = Duration::from_millis(500);
+
+/// The busy run, and the idle one before it with `--compare-idle`.
+fn run_phases(
     args: &BenchQueryArgs,
     config: &Config,
     world: &LiveWorld,
+    system: &mut Services,
+    echo: &mut Services,
+    restart: &Restart<'_>,
+) -> anyhow::Result<(Report, Option<Report>)> {
+    let pid = std::process::id();
+    let mut clients = Clients {
+        matcher: ReferenceClient::connect(&config.ipc, &format!("vref-bench-query-{pid}"))?,
+        bare: ReferenceClient::connect(
+            &echo_settings(&config.ipc),
+            &format!("vref-bench-bare-{pid}"),
+        )?,
+        decisions: DecisionReader::connect(&config.ipc, &format!("vref-bench-decisions-{pid}"))?,
+    };
+    let both = |system: &mut Services, echo: &mut Services| {
+        system.ensure_running()?;
+        echo.ensure_running()
+    };
+    wait_ready(&mut clients.matcher, &mut clients.bare, world, &mut || {
+        both(system, echo)
+    })?;
+    let idle = if args.compare_idle {
+        // Stopped, not paused: a feed takes any signal in its sleep as one
+        // to stop. Started again afterwards, with new sessions.
+        for feed in FEEDS {
+            system.stop_one(feed)?;
+        }
+        std::thread::sleep(SETTLE);
+        let idle = measure(args, &mut clients, world, &mut || Ok(()));
+        system.start_some(
+            restart.binaries,
+            restart.config,
+            &["--objects".to_owned(), restart.objects.to_string()],
+            |name| FEEDS.contains(&name),
+        )?;
+        wait_ready(&mut clients.matcher, &mut clients.bare, world, &mut || {
+            both(system, echo)
+        })?;
+        std::thread::sleep(SETTLE);
+        Some(idle?)
+    } else {
+        None
+    };
+    let busy = measure(args, &mut clients, world, &mut || both(system, echo))?;
+    Ok((busy, idle))
+}
+
+struct Clients {
+    matcher: ReferenceClient,
+    bare: ReferenceClient,
+    decisions: DecisionReader,
+}
+
+fn measure(
+    args: &BenchQueryArgs,
+    clients: &mut Clients,
+    world: &LiveWorld,
     running: &mut dyn FnMut() -> anyhow::Result<()>,
 ) -> anyhow::Result<Report> {
-    let pid = std::process::id();
-    let mut matcher = ReferenceClient::connect(&config.ipc, &format!("vref-bench-query-{pid}"))?;
-    let mut bare = ReferenceClient::connect(
-        &echo_settings(&config.ipc),
-        &format!("vref-bench-bare-{pid}"),
-    )?;
-    wait_ready(&mut matcher, &mut bare, world, running)?;
-
+    let Clients {
+        matcher,
+        bare,
+        decisions,
+    } = clients;
+    // Decisions from before this phase are not its solves.
+    decisions.latest()?;
     let mut report = Report::default();
     let period = Duration::from_secs_f64(1.0 / args.rate);
     let end = Instant::now() + args.duration;
@@ -209,7 +288,15 @@ fn measure(
                 }
             }
         }
+        if let Some(Ok(decision)) = decisions.latest()? {
+            report
+                .solve_times
+                .push(Duration::from_micros(decision.header.solve_us));
+        }
         tick += 1;
+        if tick.is_multiple_of(100) {
+            running()?;
+        }
         if let Some(rest) = period.checked_sub(started.elapsed()) {
             std::thread::sleep(rest);
         }
@@ -218,12 +305,16 @@ fn measure(
 }
 
 fn classify(report: &mut Report, answer: &ReferenceAnswer, took: Duration) {
+    report.all.push(took);
+    let solution = (answer.robot_sequence, answer.human_sequence);
+    let new = report.last_solution.is_some_and(|last| last != solution);
+    report.last_solution = Some(solution);
     match answer.status() {
         // Only these went through the solution (queries name a human
-        // object, so `no_match` is the solution's "no partner"); their
-        // flag says whether it had to be computed first.
+        // object, so `no_match` is the solution's "no partner"); the
+        // snapshots they name tell a solution new since the last answer.
         AnswerStatus::Ok | AnswerStatus::Ambiguous | AnswerStatus::NoMatch => {
-            if answer.solved() {
+            if new {
                 report.solve.push(took);
             } else {
                 report.cached.push(took);
@@ -234,7 +325,10 @@ fn classify(report: &mut Report, answer: &ReferenceAnswer, took: Duration) {
 }
 
 fn failed(report: &mut Report, error: &vref_wire::ipc::IpcError) {
-    if matches!(error, vref_wire::ipc::IpcError::Timeout { .. }) {
+    if matches!(
+        error,
+        vref_wire::ipc::IpcError::Timeout { .. } | vref_wire::ipc::IpcError::NoServer { .. }
+    ) {
         report.timeouts += 1;
     } else {
         report.errors += 1;
@@ -265,9 +359,17 @@ fn wait_ready(
     while Instant::now() < deadline {
         running()?;
         if !matcher_ready && let Some(&id) = human_ids(world).first() {
-            matcher_ready = matcher
-                .by_human_object(id, QUERY_TIMEOUT)
-                .is_ok_and(|a| matches!(a.status(), AnswerStatus::Ok | AnswerStatus::Ambiguous));
+            // Any answer from a solution, stale too: a configuration whose
+            // solves are slow is measured, not refused here.
+            matcher_ready = matcher.by_human_object(id, QUERY_TIMEOUT).is_ok_and(|a| {
+                matches!(
+                    a.status(),
+                    AnswerStatus::Ok
+                        | AnswerStatus::Ambiguous
+                        | AnswerStatus::NoMatch
+                        | AnswerStatus::Stale
+                )
+            });
         }
         if !bare_ready {
             bare_ready = bare.by_human_object(0, QUERY_TIMEOUT).is_ok();
@@ -311,10 +413,20 @@ impl Report {
         if n == 0 { 0.0 } else { sum as f64 / n as f64 }
     }
 
-    fn json(&self, args: &BenchQueryArgs, config: &Config) -> serde_json::Value {
+    fn json(
+        &self,
+        args: &BenchQueryArgs,
+        config: &Config,
+        idle: Option<&Report>,
+    ) -> serde_json::Value {
         let p = |s: &Samples, q| us(s.percentile(q));
-        serde_json::json!({
+        let mut json = serde_json::json!({
             "objects": args.objects,
+            "all_p50_us": p(&self.all, 0.5),
+            "all_p99_us": p(&self.all, 0.99),
+            "ratio_all_p99": ratio(self.all.percentile(0.99), self.bare.percentile(0.99)),
+            "all_p999_us": p(&self.all, 0.999),
+            "all_count": self.all.count(),
             "cached_p50_us": p(&self.cached, 0.5),
             "cached_p99_us": p(&self.cached, 0.99),
             "solve_p50_us": p(&self.solve, 0.5),
@@ -332,22 +444,43 @@ impl Report {
             "other_count": self.other_total(),
             "timeouts": self.timeouts,
             "errors": self.errors,
+            "solve_time_p50_us": p(&self.solve_times, 0.5),
+            "solve_time_p99_us": p(&self.solve_times, 0.99),
+            "solve_time_count": self.solve_times.count(),
             "method": config.matcher.method,
+            "tier": config.matcher.tier,
             "rate_hz": args.rate,
             "duration_s": args.duration.as_secs_f64(),
             "human_objects_mean": (self.mean_human_objects() * 10.0).round() / 10.0,
             "with_viewer": args.with_viewer,
-        })
+        });
+        if let (Some(idle), Some(fields)) = (idle, json.as_object_mut()) {
+            fields.insert("idle_all_p50_us".to_owned(), p(&idle.all, 0.5));
+            fields.insert("idle_all_p99_us".to_owned(), p(&idle.all, 0.99));
+            fields.insert("idle_bare_p99_us".to_owned(), p(&idle.bare, 0.99));
+            fields.insert(
+                "ratio_busy_idle_p99".to_owned(),
+                serde_json::json!(ratio(self.all.percentile(0.99), idle.all.percentile(0.99))),
+            );
+        }
+        json
     }
 
-    fn table(&self, args: &BenchQueryArgs, config: &Config) -> String {
+    fn table(&self, args: &BenchQueryArgs, config: &Config, idle: Option<&Report>) -> String {
         let mut table = Table::new(&["round trip", "count", "p50 us", "p99 us", "p99.9 us"]);
         let cell = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.1}"));
-        for (name, s) in [
+        let mut rows = vec![
+            ("every matcher answer", &self.all),
             ("cached answer", &self.cached),
-            ("answer after a solve", &self.solve),
+            ("first answer from a new solution", &self.solve),
             ("bare iceoryx2", &self.bare),
-        ] {
+            ("(the matcher's solve times)", &self.solve_times),
+        ];
+        if let Some(idle) = idle {
+            rows.push(("every answer, idle matcher", &idle.all));
+            rows.push(("bare iceoryx2, idle matcher", &idle.bare));
+        }
+        for (name, s) in rows {
             table.row(vec![
                 name.to_owned(),
                 s.count().to_string(),
@@ -362,7 +495,7 @@ impl Report {
         };
         format!(
             "{} objects in the world ({:.1} seen by the headset on average), method {}, \
-             {} queries/s for {:?}\n{table}cached / bare: p50 {}, p99 {}\n\
+             {} queries/s for {:?}\n{table}cached / bare: p50 {}, p99 {}; all / bare p99 {}\n\
              other answers {}, timeouts {}, errors {}\n",
             args.objects,
             self.mean_human_objects(),
@@ -371,6 +504,8 @@ impl Report {
             args.duration,
             r(0.5),
             r(0.99),
+            ratio(self.all.percentile(0.99), self.bare.percentile(0.99))
+                .map_or_else(|| "-".to_owned(), |v| format!("{v:.2}")),
             self.other_total(),
             self.timeouts,
             self.errors,
@@ -414,7 +549,7 @@ fn serve_echo(ipc: &IpcSettings) -> anyhow::Result<()> {
         if let Err(e) = requests.try_wait(|_| {}) {
             tracing::warn!("draining the request listener: {e:?}");
         }
-        let done = answer_waiting(&server, echo, |_| {});
+        let done = answer_waiting(&server, |q, _| Some(echo(q)), |_| {});
         for failure in &done.failures {
             tracing::warn!("{failure}");
         }
@@ -459,7 +594,7 @@ mod tests {
     }
 
     #[test]
-    fn answers_are_sorted_by_their_solved_flag_and_status() {
+    fn answers_are_sorted_by_whether_their_solution_is_new_and_by_status() {
         let mut report = Report::default();
         let mut answer = echo(&ReferenceQuery {
             request_id: 3,
@@ -477,19 +612,22 @@ mod tests {
         classify(&mut report, &answer, Duration::from_micros(1));
         answer.status = AnswerStatus::Ok as u32;
         classify(&mut report, &answer, Duration::from_micros(1));
-        answer.flags = ReferenceAnswer::FLAG_SOLVED;
+        // A solution of newer snapshots.
+        answer.robot_sequence = 2;
         answer.status = AnswerStatus::Ambiguous as u32;
         classify(&mut report, &answer, Duration::from_micros(1));
         // "No partner" comes from the solution too.
+        answer.human_sequence = 2;
         answer.status = AnswerStatus::NoMatch as u32;
         classify(&mut report, &answer, Duration::from_micros(1));
         assert_eq!(
             (
                 report.cached.count(),
                 report.solve.count(),
-                report.other_total()
+                report.other_total(),
+                report.all.count()
             ),
-            (1, 2, 1)
+            (1, 2, 1, 4)
         );
     }
 

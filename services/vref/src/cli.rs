@@ -505,10 +505,17 @@ pub struct BenchQueryArgs {
     /// How long to measure once the services answer, e.g. 30s.
     #[arg(long, value_name = "D", default_value = "10s", value_parser = crate::duration::parse_duration)]
     pub duration: std::time::Duration,
-    /// Print one JSON object: objects, cached_/solve_/bare_ p50, p99 and
-    /// p999 in microseconds, ratio_p99 (cached p99 / bare p99), counts.
+    /// Print one JSON object: objects, all_/cached_/solve_/bare_ p50, p99
+    /// and p999 in microseconds, ratio_all_p99 (all matcher answers' p99 /
+    /// bare p99), ratio_p99 (cached p99 / bare p99), counts.
     #[arg(long)]
     pub json: bool,
+    /// First measure as long with both feeds stopped (no snapshot, no
+    /// solve: an idle matcher), then with them started again, and
+    /// report both: idle_all_p50_us, idle_all_p99_us, ratio_busy_idle_p99,
+    /// and the matcher's solve times from its decisions.
+    #[arg(long)]
+    pub compare_idle: bool,
     /// Configuration file ([matcher] method, [feeds] rates and preset);
     /// the services run under their own iceoryx2 root path and prefix
     /// whatever its [ipc] says.

@@ -9,7 +9,9 @@ use clap::{Args, ValueEnum};
 use vref_config::Config;
 use vref_inject::{Kind, Message, Target};
 use vref_scene::Side;
-use vref_wire::ipc::{GesturePublisher, SnapshotPublisher, create_node, now_ns};
+use vref_wire::ipc::{
+    GesturePublisher, SnapshotPublisher, create_node, now_ns, open_gesture, open_snapshot,
+};
 
 use crate::failure::{Blame, Failure};
 
@@ -23,7 +25,9 @@ const SETTLE: Duration = Duration::from_millis(500);
 pub struct InjectArgs {
     /// What to publish (valid, nan, inf, huge, count-over-slice,
     /// count-over-capacity, feature-dim-too-large, feature-dim-other-side,
-    /// duplicate-ids, zero-ray, schema-version, sequence-backwards).
+    /// duplicate-ids, zero-ray, schema-version, sequence-backwards,
+    /// future-stamp, old-stamp, hijack-sequence, hijack-ray: the last two
+    /// take the live feed's session with sequence 2^64-1).
     #[arg(long, value_name = "K", value_parser = parse_kind)]
     pub kind: Kind,
     /// Which view's snapshot service to write to (rays ignore it).
@@ -55,17 +59,22 @@ pub fn run(args: &InjectArgs) -> Result<(), Failure> {
         SideArg::Robot => Side::Robot,
         SideArg::Human => Side::Human,
     };
+    let ipc = &config.ipc;
+    let node = create_node(ipc, &format!("vref-inject-{}", std::process::id())).runtime()?;
+    let session = if args.kind.hijacks() {
+        live_session(&node, ipc, side, args.kind.is_ray()).runtime()?
+    } else {
+        session()
+    };
     let target = Target {
         side,
-        session: session(),
+        session,
         capacity: config.scene.capacity,
         timestamp_ns: now_ns(),
     };
-    let ipc = &config.ipc;
-    let node = create_node(ipc, &format!("vref-inject-{}", std::process::id())).runtime()?;
     // Only the port the kind writes to: a spare publisher would take a
     // place a real feed may need.
-    let mut publisher = if args.kind == Kind::ZeroRay {
+    let mut publisher = if args.kind.is_ray() {
         Publisher::Rays(GesturePublisher::new(&node, ipc).runtime()?)
     } else {
         Publisher::Snapshots(SnapshotPublisher::new(&node, ipc, side, "").runtime()?)
@@ -108,6 +117,47 @@ impl Publisher {
             _ => Err(anyhow::anyhow!("no publisher for this message")),
         }
     }
+}
+
+/// How long a hijack waits for the live feed's latest message.
+const LIVE_WITHIN: Duration = Duration::from_secs(5);
+
+/// The session of the feed publishing on `side`'s snapshot service (or the
+/// gesture service): any subscriber can read it.
+fn live_session(
+    node: &vref_wire::ipc::Node,
+    ipc: &vref_wire::ipc::IpcSettings,
+    side: Side,
+    rays: bool,
+) -> anyhow::Result<u64> {
+    let deadline = std::time::Instant::now() + LIVE_WITHIN;
+    let gone = || anyhow::anyhow!("no feed published within {LIVE_WITHIN:?}: nothing to hijack");
+    if rays {
+        let (data, _) = open_gesture(node, ipc)?;
+        let sub = data
+            .subscriber_builder()
+            .create()
+            .map_err(|e| anyhow::anyhow!("subscribing to rays: {e:?}"))?;
+        while std::time::Instant::now() < deadline {
+            if let Some(sample) = sub.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+                return Ok(sample.payload().session);
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        return Err(gone());
+    }
+    let (data, _) = open_snapshot(node, ipc, side)?;
+    let sub = data
+        .subscriber_builder()
+        .create()
+        .map_err(|e| anyhow::anyhow!("subscribing to snapshots: {e:?}"))?;
+    while std::time::Instant::now() < deadline {
+        if let Some(sample) = sub.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+            return Ok(sample.user_header().session);
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    Err(gone())
 }
 
 /// A session id of this run: the start time mixed with the process id, so

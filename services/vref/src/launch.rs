@@ -129,18 +129,43 @@ impl Services {
         logs: &Path,
     ) -> anyhow::Result<Self> {
         let mut services = Services::new(logs);
+        services.start_some(binaries, config, feed_args, |_| true)?;
+        Ok(services)
+    }
+
+    /// Starts those of `binaries` whose name `chosen` takes, as
+    /// [`Services::start_system`] would.
+    pub fn start_some(
+        &mut self,
+        binaries: &[PathBuf],
+        config: &Path,
+        feed_args: &[String],
+        chosen: impl Fn(&str) -> bool,
+    ) -> anyhow::Result<()> {
         for binary in binaries {
             let name = binary
                 .file_name()
                 .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            if !chosen(&name) {
+                continue;
+            }
             let mut command = Command::new(binary);
             command.arg("--config").arg(config);
             if name.ends_with("feed") {
                 command.args(feed_args);
             }
-            services.spawn(&name, command)?;
+            self.spawn(&name, command)?;
         }
-        Ok(services)
+        Ok(())
+    }
+
+    /// Stops service `name` with SIGTERM, as [`Services::stop`] does.
+    pub fn stop_one(&mut self, name: &str) -> anyhow::Result<()> {
+        let Some(index) = self.children.iter().position(|(n, _)| n == name) else {
+            bail!("no service {name}");
+        };
+        let (name, mut child) = self.children.remove(index);
+        stop_child(&name, &mut child).map_err(|problem| anyhow!("{problem}"))
     }
 
     /// Starts `command` as the service `name`.
@@ -196,33 +221,11 @@ impl Services {
     /// SIGTERM to each, then waits; a service that does not stop in time
     /// is killed and reported.
     pub fn stop(&mut self) -> anyhow::Result<()> {
-        let mut problems = Vec::new();
-        for (name, child) in &mut self.children {
-            let pid = Pid::from_raw(i32::try_from(child.id()).unwrap_or(i32::MAX));
-            kill(pid, Signal::SIGTERM).ok();
-            let deadline = Instant::now() + STOP_WITHIN;
-            let status = loop {
-                match child.try_wait() {
-                    Ok(Some(status)) => break Some(status),
-                    Ok(None) if Instant::now() < deadline => {
-                        std::thread::sleep(Duration::from_millis(20))
-                    }
-                    _ => break None,
-                }
-            };
-            match status {
-                Some(s) if s.success() => tracing::info!(service = %name, "stopped"),
-                Some(s) => problems.push(format!("{name} exited with {s}")),
-                None => {
-                    child.kill().ok();
-                    child.wait().ok();
-                    problems.push(format!(
-                        "{name} did not stop within {STOP_WITHIN:?} and was killed"
-                    ));
-                }
-            }
-        }
-        self.children.clear();
+        let problems: Vec<String> = self
+            .children
+            .drain(..)
+            .filter_map(|(name, mut child)| stop_child(&name, &mut child).err())
+            .collect();
         if problems.is_empty() {
             Ok(())
         } else {
@@ -230,6 +233,35 @@ impl Services {
                 "{} (logs in {})",
                 problems.join("; "),
                 self.logs.display()
+            ))
+        }
+    }
+}
+
+/// SIGTERM, then a bounded wait; killed if it hangs. The problem, if any,
+/// in words.
+fn stop_child(name: &str, child: &mut Child) -> Result<(), String> {
+    let pid = Pid::from_raw(i32::try_from(child.id()).unwrap_or(i32::MAX));
+    kill(pid, Signal::SIGTERM).ok();
+    let deadline = Instant::now() + STOP_WITHIN;
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+            _ => break None,
+        }
+    };
+    match status {
+        Some(s) if s.success() => {
+            tracing::info!(service = %name, "stopped");
+            Ok(())
+        }
+        Some(s) => Err(format!("{name} exited with {s}")),
+        None => {
+            child.kill().ok();
+            child.wait().ok();
+            Err(format!(
+                "{name} did not stop within {STOP_WITHIN:?} and was killed"
             ))
         }
     }

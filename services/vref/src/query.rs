@@ -3,7 +3,7 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 use vref_config::Config;
 use vref_wire::ReferenceAnswer;
-use vref_wire::ipc::ReferenceClient;
+use vref_wire::ipc::{IpcError, ReferenceClient};
 
 use crate::cli::QueryArgs;
 use crate::failure::{Blame, Failure};
@@ -14,7 +14,7 @@ pub fn run(args: &QueryArgs) -> Result<(), Failure> {
     let timeout = Duration::from_millis(args.timeout_ms);
     let name = format!("vref-query-{}", std::process::id());
     let mut client = ReferenceClient::connect(&config.ipc, &name)
-        .context("connecting to the matcher")
+        .context("connecting to the matcher's reference service")
         .runtime()?;
     let start = Instant::now();
     let answer = match (&args.human_object, &args.ray) {
@@ -24,7 +24,18 @@ pub fn run(args: &QueryArgs) -> Result<(), Failure> {
         }
         (None, None) => client.latest_gesture(timeout),
     }
-    .context("asking the matcher (is vref-matcher running with the same [ipc] settings?)")
+    .map_err(|e| {
+        // Only when nobody serves is the matcher missing; a timeout with a
+        // server means it is running but did not answer in time.
+        let hint = match e {
+            IpcError::NoServer { .. } => format!(
+                "asking the matcher (is vref-matcher running with the same [ipc] settings: namespace `{}`, prefix `{}`?)",
+                config.ipc.namespace, config.ipc.prefix
+            ),
+            _ => "asking the matcher".to_owned(),
+        };
+        anyhow::Error::from(e).context(hint)
+    })
     .runtime()?;
     let rtt = start.elapsed();
     let text = if args.json {
@@ -56,13 +67,17 @@ pub fn describe(a: &ReferenceAnswer, rtt: Duration) -> String {
         text += &format!("; alternatives {}", alts.join(", "));
     }
     text += &format!(
-        "; snapshots robot #{} ({:.0} ms old), human #{} ({:.0} ms old); round trip {} us",
+        "; snapshots robot #{} ({:.0} ms old), human #{} ({:.0} ms old), solved {:.0} ms ago",
         a.robot_sequence,
         a.robot_age_us as f64 / 1000.0,
         a.human_sequence,
         a.human_age_us as f64 / 1000.0,
-        rtt.as_micros()
+        a.solve_age_us as f64 / 1000.0,
     );
+    if a.ray_age_us > 0 {
+        text += &format!("; ray {:.0} ms old", a.ray_age_us as f64 / 1000.0);
+    }
+    text += &format!("; round trip {} us", rtt.as_micros());
     text
 }
 
@@ -79,6 +94,13 @@ struct JsonAnswer {
     human_sequence: u64,
     robot_age_us: u64,
     human_age_us: u64,
+    solve_age_us: u64,
+    ray_age_us: u64,
+    /// The answered object in the human view's frame, when known.
+    human_frame_position: Option<[f32; 3]>,
+    /// Whether that position came through the estimated motion.
+    human_position_from_motion: bool,
+    solved: bool,
     rtt_us: u128,
 }
 
@@ -108,6 +130,12 @@ pub fn json(a: &ReferenceAnswer, rtt: Duration) -> String {
         human_sequence: a.human_sequence,
         robot_age_us: a.robot_age_us,
         human_age_us: a.human_age_us,
+        solve_age_us: a.solve_age_us,
+        ray_age_us: a.ray_age_us,
+        human_frame_position: (a.flags & ReferenceAnswer::FLAG_HUMAN_POSITION != 0)
+            .then_some(a.human_frame_position),
+        human_position_from_motion: a.flags & ReferenceAnswer::FLAG_HUMAN_POSITION_FROM_MOTION != 0,
+        solved: a.solved(),
         rtt_us: rtt.as_micros(),
     };
     serde_json::to_string(&line).unwrap_or_default()

@@ -132,7 +132,7 @@ fn soak(
                     .rtt_us
                     .push(u64::try_from(asked.elapsed().as_micros()).unwrap_or(u64::MAX));
             }
-            Err(IpcError::Timeout { .. }) => report.timeouts += 1,
+            Err(IpcError::Timeout { .. } | IpcError::NoServer { .. }) => report.timeouts += 1,
             Err(e) => {
                 report.ipc_errors += 1;
                 tracing::warn!("query failed: {e}");

@@ -1,5 +1,6 @@
 use std::time::{Duration, Instant};
 
+use iceoryx2::pending_response::PendingResponse;
 use iceoryx2::port::client::Client;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
@@ -7,13 +8,56 @@ use iceoryx2::prelude::*;
 
 use super::error::{IpcError, iceoryx_err};
 use super::{
-    IpcSettings, Node, create_node, open_answer_event, open_reference, open_request_event,
+    IpcSettings, Node, ReferencePort, create_node, open_answer_event, open_reference,
+    open_request_event,
 };
 use crate::{QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
 
 /// Longest single sleep while waiting for an answer: the pending response
 /// is re-checked at least this often, whatever the events say.
 const POLL: Duration = Duration::from_millis(20);
+/// While an answer is late, how often the client looks whether the
+/// servers changed (a matcher gone or started), and cleans up dead nodes
+/// so that a killed matcher's server is seen gone.
+const CHECK_EVERY: Duration = Duration::from_millis(20);
+const CLEANUP_EVERY: Duration = Duration::from_millis(250);
+/// How long a request must stay let go, with the same servers there, to
+/// count as refused: a dead server's cleanup drops its connection a moment
+/// before its listing.
+const REFUSED_AFTER: Duration = Duration::from_millis(100);
+/// Servers a reference service allows (services.rs), and so the most a
+/// client can see.
+const MAX_SERVERS: usize = 8;
+
+/// The servers connected to the reference service, by port id: a fixed
+/// array, so that comparing them allocates nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Servers {
+    ids: [u128; MAX_SERVERS],
+    count: usize,
+}
+
+impl Servers {
+    fn of(port: &ReferencePort) -> Self {
+        let mut servers = Self {
+            ids: [0; MAX_SERVERS],
+            count: 0,
+        };
+        port.dynamic_config().list_servers(|details| {
+            if servers.count < MAX_SERVERS {
+                servers.ids[servers.count] = details.server_id.value();
+                servers.count += 1;
+            }
+            CallbackProgression::Continue
+        });
+        servers.ids[..servers.count].sort_unstable();
+        servers
+    }
+
+    fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+}
 
 /// Asks the matcher which robot object a person means. One per thread.
 pub struct ReferenceClient {
@@ -21,6 +65,7 @@ pub struct ReferenceClient {
     client: Client<ipc::Service, ReferenceQuery, (), ReferenceAnswer, ()>,
     request_event: Notifier<ipc::Service>,
     answer_event: Listener<ipc::Service>,
+    port: ReferencePort,
     node: Node,
     next_request: u64,
 }
@@ -35,25 +80,42 @@ impl std::fmt::Debug for ReferenceClient {
 
 impl ReferenceClient {
     /// Connects under the settings' namespace; `name` names this client's
-    /// node. The matcher need not be running yet.
+    /// node. The matcher need not be running yet. Past `[ipc] max_clients`
+    /// controllers the error says so ([`IpcError::TooManyClients`]).
     pub fn connect(settings: &IpcSettings, name: &str) -> Result<Self, IpcError> {
         let node = create_node(settings, name)?;
-        let client = open_reference(&node, settings)?
+        // A controller killed without cleanup holds a client's place.
+        node.try_cleanup_dead_nodes();
+        let full = |what: &'static str| {
+            move |e: &dyn std::fmt::Debug| {
+                let text = format!("{e:?}");
+                if text.contains("ExceedsMaxSupported") {
+                    IpcError::TooManyClients {
+                        limit: settings.max_clients,
+                    }
+                } else {
+                    iceoryx_err(what, text)
+                }
+            }
+        };
+        let port = open_reference(&node, settings)?;
+        let client = port
             .client_builder()
             .create()
-            .map_err(|e| iceoryx_err("creating reference client", e))?;
+            .map_err(|e| full("creating reference client")(&e))?;
         let request_event = open_request_event(&node, settings)?
             .notifier_builder()
             .create()
-            .map_err(|e| iceoryx_err("creating request notifier", e))?;
+            .map_err(|e| full("creating request notifier")(&e))?;
         let answer_event = open_answer_event(&node, settings)?
             .listener_builder()
             .create()
-            .map_err(|e| iceoryx_err("creating answer listener", e))?;
+            .map_err(|e| full("creating answer listener")(&e))?;
         Ok(Self {
             client,
             request_event,
             answer_event,
+            port,
             node,
             next_request: 1,
         })
@@ -94,15 +156,86 @@ impl ReferenceClient {
     }
 
     /// Sends `query` (its request id is set here) and waits up to
-    /// `timeout` for the answer.
+    /// `timeout` for the answer. A matcher that leaves or starts meanwhile
+    /// (a restart, or the first start) is sent the query again, so that
+    /// the one serving gets it.
     pub fn ask(
         &mut self,
         mut query: ReferenceQuery,
         timeout: Duration,
     ) -> Result<ReferenceAnswer, IpcError> {
-        let deadline = Instant::now() + timeout;
+        let start = Instant::now();
+        let deadline = start + timeout;
         query.request_id = self.next_request;
         self.next_request += 1;
+        let mut servers = Servers::of(&self.port);
+        let mut pending = Some(self.send(query)?);
+        let (mut checked, mut cleaned) = (start, start);
+        let mut let_go_since: Option<Instant> = None;
+        loop {
+            let now = Instant::now();
+            if let Some(sent) = &pending {
+                // Read before the answer: a server answers, then lets go.
+                let connected = sent.is_connected();
+                if let Some(response) = sent
+                    .receive()
+                    .map_err(|e| iceoryx_err("receiving an answer", e))?
+                {
+                    let answer = *response.payload();
+                    if answer.request_id != query.request_id {
+                        return Err(IpcError::WrongAnswer {
+                            expected: query.request_id,
+                            got: answer.request_id,
+                        });
+                    }
+                    return Ok(answer);
+                }
+                let let_go = !connected
+                    && sent.number_of_server_connections() > 0
+                    && Servers::of(&self.port) == servers;
+                if !let_go {
+                    let_go_since = None;
+                } else if now.duration_since(*let_go_since.get_or_insert(now)) >= REFUSED_AFTER {
+                    // Every server it reached let it go unanswered.
+                    return Err(IpcError::Refused);
+                }
+            }
+            if now >= deadline {
+                // A matcher that died leaves its server registered until
+                // someone cleans up; do it so that the error is right.
+                self.node.try_cleanup_dead_nodes();
+                let timeout_ms = u64::try_from(timeout.as_millis()).unwrap_or(u64::MAX);
+                return Err(if Servers::of(&self.port).is_empty() {
+                    IpcError::NoServer { timeout_ms }
+                } else {
+                    IpcError::Timeout { timeout_ms }
+                });
+            }
+            if now.duration_since(checked) >= CHECK_EVERY {
+                checked = now;
+                if now.duration_since(cleaned) >= CLEANUP_EVERY {
+                    cleaned = now;
+                    self.node.try_cleanup_dead_nodes();
+                }
+                let current = Servers::of(&self.port);
+                if current != servers {
+                    servers = current;
+                    // Its place among the client's active requests first.
+                    pending = None;
+                    let_go_since = None;
+                    if !servers.is_empty() {
+                        pending = Some(self.send(query)?);
+                    }
+                    continue;
+                }
+            }
+            self.answer_event
+                .timed_wait(|_| {}, (deadline - now).min(POLL))
+                .map_err(|e| iceoryx_err("waiting for an answer", e))?;
+        }
+    }
+
+    fn send(&self, query: ReferenceQuery) -> Result<Pending, IpcError> {
         let pending = self
             .client
             .loan_uninit()
@@ -113,35 +246,11 @@ impl ReferenceClient {
         self.request_event
             .notify()
             .map_err(|e| iceoryx_err("notifying a request", e))?;
-        loop {
-            if let Some(response) = pending
-                .receive()
-                .map_err(|e| iceoryx_err("receiving an answer", e))?
-            {
-                let answer = *response.payload();
-                if answer.request_id != query.request_id {
-                    return Err(IpcError::WrongAnswer {
-                        expected: query.request_id,
-                        got: answer.request_id,
-                    });
-                }
-                return Ok(answer);
-            }
-            let now = Instant::now();
-            if now >= deadline {
-                // A matcher that died leaves its server registered until
-                // someone cleans up; do it so a restarted one is reached.
-                self.node.try_cleanup_dead_nodes();
-                return Err(IpcError::Timeout {
-                    timeout_ms: u64::try_from(timeout.as_millis()).unwrap_or(u64::MAX),
-                });
-            }
-            self.answer_event
-                .timed_wait(|_| {}, (deadline - now).min(POLL))
-                .map_err(|e| iceoryx_err("waiting for an answer", e))?;
-        }
+        Ok(pending)
     }
 }
+
+type Pending = PendingResponse<ipc::Service, ReferenceQuery, (), ReferenceAnswer, ()>;
 
 fn query(
     kind: QueryKind,

@@ -19,7 +19,7 @@ pub use error::IpcError;
 pub use names::ServiceNames;
 pub use node::{Node, create_node, now_ns};
 pub use publishers::{GesturePublisher, SnapshotPublisher};
-pub use server::{ReferenceServer, Served, answer_waiting};
+pub use server::{ClientId, ReferenceServer, Served, answer_waiting};
 pub use services::{
     AnswerPort, DecisionPort, EventPort, GesturePort, ReferencePort, SnapshotPort, StatsPort,
     open_answer_event, open_decision, open_gesture, open_reference, open_request_event,

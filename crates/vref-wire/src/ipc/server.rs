@@ -12,16 +12,23 @@ pub type ReferenceServer = Server<ipc::Service, ReferenceQuery, (), ReferenceAns
 pub struct Served {
     /// Answers sent.
     pub sent: u64,
+    /// Requests dropped unanswered (the client over its share).
+    pub dropped: u64,
     /// What failed: a failed receive ends the pass, a failed send skips
     /// that request. Empty (no allocation) when nothing failed.
     pub failures: Vec<IpcError>,
 }
 
-/// Answers every request waiting at `server` with `answer`, and calls
-/// `on_sent` with each answer that went out.
+/// A client's port, as iceoryx2 names it in each request.
+pub type ClientId = u128;
+
+/// Answers every request waiting at `server` with `answer`, given the
+/// query and the id of the client port that sent it (`None`: drop the
+/// request unanswered), and calls `on_sent` with each answer that went
+/// out.
 pub fn answer_waiting(
     server: &ReferenceServer,
-    mut answer: impl FnMut(&ReferenceQuery) -> ReferenceAnswer,
+    mut answer: impl FnMut(&ReferenceQuery, ClientId) -> Option<ReferenceAnswer>,
     mut on_sent: impl FnMut(&ReferenceAnswer),
 ) -> Served {
     let mut served = Served::default();
@@ -34,7 +41,10 @@ pub fn answer_waiting(
                 break;
             }
         };
-        let reply = answer(request.payload());
+        let Some(reply) = answer(request.payload(), request.header().client_id().value()) else {
+            served.dropped += 1;
+            continue;
+        };
         let sent = request
             .loan_uninit()
             .map_err(|e| iceoryx_err("loaning an answer", e))

@@ -33,14 +33,29 @@ fn service_name(name: &str) -> Result<ServiceName, IpcError> {
 }
 
 fn open_event(node: &Node, settings: &IpcSettings, name: &str) -> Result<EventPort, IpcError> {
+    let notifiers = settings.max_clients + PORTS_PER_ROLE;
     let listeners = settings.max_subscribers.max(settings.max_clients) + PORTS_PER_ROLE;
     node.service_builder(&service_name(name)?)
         .event()
-        .max_notifiers(settings.max_clients + PORTS_PER_ROLE)
+        .max_notifiers(notifiers)
         .max_listeners(listeners)
+        // Every notifier and listener may be a node of its own; iceoryx2's
+        // default (36) would cap the clients below [ipc] max_clients.
+        .max_nodes(notifiers + listeners)
         .notifier_dead_event(EventId::new(NOTIFIER_DEAD))
         .open_or_create()
-        .map_err(|e| iceoryx_err(format!("opening event service {name}"), e))
+        .map_err(|e| open_err(settings, format!("opening event service {name}"), e))
+}
+
+/// An error opening a service; one whose node limit is reached says so
+/// with the setting that sizes it.
+fn open_err(settings: &IpcSettings, what: String, error: impl std::fmt::Debug) -> IpcError {
+    if format!("{error:?}").contains("ExceedsMaxNumberOfNodes") {
+        return IpcError::TooManyClients {
+            limit: settings.max_clients,
+        };
+    }
+    iceoryx_err(what, error)
 }
 
 /// One side's snapshots (latest wins) and the event that announces them.
@@ -60,8 +75,9 @@ pub fn open_snapshot(
         .enable_safe_overflow(true)
         .max_publishers(PORTS_PER_ROLE)
         .max_subscribers(settings.max_subscribers)
+        .max_nodes(PORTS_PER_ROLE + settings.max_subscribers)
         .open_or_create()
-        .map_err(|e| iceoryx_err(format!("opening {name}"), e))?;
+        .map_err(|e| open_err(settings, format!("opening {name}"), e))?;
     let event = open_event(node, settings, &ServiceNames::event_of(&name))?;
     Ok((data, event))
 }
@@ -80,25 +96,30 @@ pub fn open_gesture(
         .enable_safe_overflow(true)
         .max_publishers(PORTS_PER_ROLE)
         .max_subscribers(settings.max_subscribers)
+        .max_nodes(PORTS_PER_ROLE + settings.max_subscribers)
         .open_or_create()
-        .map_err(|e| iceoryx_err(format!("opening {name}"), e))?;
+        .map_err(|e| open_err(settings, format!("opening {name}"), e))?;
     let event = open_event(node, settings, &ServiceNames::event_of(&name))?;
     Ok((data, event))
 }
 
-/// Reference queries (request/response).
+/// Reference queries (request/response). Exactly `[ipc] max_clients`
+/// clients may connect: a controller killed without cleanup holds its
+/// place only until the next cleanup of dead nodes, which every client
+/// runs before connecting.
 pub fn open_reference(node: &Node, settings: &IpcSettings) -> Result<ReferencePort, IpcError> {
     let name = ServiceNames::new(&settings.namespace).reference();
     node.service_builder(&service_name(&name)?)
         .request_response::<ReferenceQuery, ReferenceAnswer>()
-        .max_clients(settings.max_clients + PORTS_PER_ROLE)
+        .max_clients(settings.max_clients)
         .max_servers(PORTS_PER_ROLE)
+        .max_nodes(settings.max_clients + PORTS_PER_ROLE)
         .max_active_requests_per_client(2)
         .max_response_buffer_size(2)
         .enable_safe_overflow_for_requests(true)
         .enable_safe_overflow_for_responses(true)
         .open_or_create()
-        .map_err(|e| iceoryx_err(format!("opening {name}"), e))
+        .map_err(|e| open_err(settings, format!("opening {name}"), e))
 }
 
 /// Signalled by clients after sending a request, so the matcher wakes.
@@ -127,8 +148,9 @@ pub fn open_stats(node: &Node, settings: &IpcSettings) -> Result<StatsPort, IpcE
         .enable_safe_overflow(true)
         .max_publishers(PORTS_PER_ROLE)
         .max_subscribers(settings.max_subscribers + settings.max_clients)
+        .max_nodes(PORTS_PER_ROLE + settings.max_subscribers + settings.max_clients)
         .open_or_create()
-        .map_err(|e| iceoryx_err(format!("opening {name}"), e))
+        .map_err(|e| open_err(settings, format!("opening {name}"), e))
 }
 
 /// The matcher's decision after each solve (latest wins) and its event.
@@ -147,8 +169,9 @@ pub fn open_decision(
         .enable_safe_overflow(true)
         .max_publishers(PORTS_PER_ROLE)
         .max_subscribers(settings.max_subscribers + settings.max_clients)
+        .max_nodes(PORTS_PER_ROLE + settings.max_subscribers + settings.max_clients)
         .open_or_create()
-        .map_err(|e| iceoryx_err(format!("opening {name}"), e))?;
+        .map_err(|e| open_err(settings, format!("opening {name}"), e))?;
     let event = open_event(node, settings, &ServiceNames::event_of(&name))?;
     Ok((data, event))
 }

@@ -1,0 +1,109 @@
+//! The solve, apart from intake and queries: it takes a pair of accepted
+//! snapshots and gives back a finished solution that names them. The
+//! service runs it on its own thread.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use vref_match::engine::Engine;
+use vref_match::{MatchError, Method, Params, Solution};
+use vref_scene::Side;
+use vref_wire::ValidSnapshot;
+
+use crate::MatcherSettings;
+use crate::stamp::Now;
+
+/// The newest accepted snapshot of each side, to be solved.
+#[derive(Debug, Clone)]
+pub struct Pair {
+    pub robot: Arc<ValidSnapshot>,
+    pub human: Arc<ValidSnapshot>,
+}
+
+/// A finished solution and the snapshots it was solved for: everything a
+/// query reads.
+#[derive(Debug, Clone)]
+pub struct Solved {
+    pub robot: Arc<ValidSnapshot>,
+    pub human: Arc<ValidSnapshot>,
+    /// Rows: `human`'s objects in order; columns: `robot`'s.
+    pub solution: Solution,
+    /// Whether a real solve made `solution`; `false` when both snapshots
+    /// held exactly the objects of the last solve's, whose solution is
+    /// carried over.
+    pub real: bool,
+    /// Real solves so far, this one included.
+    pub solves: u64,
+    pub finished: Now,
+    /// How long the solve (or the check that none was needed) took.
+    pub took: Duration,
+}
+
+/// A snapshot's (session, sequence).
+type Key = (u64, u64);
+
+/// The engine and which snapshots it holds.
+#[derive(Debug)]
+pub struct Solver {
+    engine: Engine,
+    fed: [Option<Key>; 2],
+    last: Option<Solution>,
+    solves: u64,
+}
+
+impl Solver {
+    pub fn new(settings: &MatcherSettings, params: Params) -> Result<Self, MatchError> {
+        params.validate()?;
+        Ok(Self {
+            engine: Engine::new(settings.method()?, settings.tier()?, params)?,
+            fed: [None; 2],
+            last: None,
+            solves: 0,
+        })
+    }
+
+    pub fn method(&self) -> Method {
+        self.engine.method()
+    }
+
+    /// Real solves so far.
+    pub fn solves(&self) -> u64 {
+        self.solves
+    }
+
+    /// Solves `pair`; the engine diffs each snapshot by track id against
+    /// the one it holds, so only changed objects cost work, and unchanged
+    /// objects cost no solve at all.
+    pub fn solve(&mut self, pair: &Pair) -> Result<Solved, MatchError> {
+        let started = Instant::now();
+        for (side, snapshot) in [(Side::Robot, &pair.robot), (Side::Human, &pair.human)] {
+            let key = Some((snapshot.session, snapshot.sequence));
+            if self.fed[side as usize] != key {
+                // Forget what was fed first: a failed update leaves the
+                // engine's view of this side unknown.
+                self.fed[side as usize] = None;
+                self.engine.update(side, &snapshot.graph)?;
+                self.fed[side as usize] = key;
+            }
+        }
+        let real = self.engine.is_dirty() || self.last.is_none();
+        if real {
+            let (solution, _, _) = self.engine.solve()?;
+            self.last = Some(solution.clone());
+            self.solves += 1;
+        }
+        let solution = self
+            .last
+            .clone()
+            .ok_or(MatchError::EmptyGraph { side: "human" })?;
+        Ok(Solved {
+            robot: pair.robot.clone(),
+            human: pair.human.clone(),
+            solution,
+            real,
+            solves: self.solves,
+            finished: Now::read(),
+            took: started.elapsed(),
+        })
+    }
+}
