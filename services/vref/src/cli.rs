@@ -57,6 +57,29 @@ pub enum Command {
     /// Benchmarks that print percentiles (never pass/fail).
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Print the wire contract for other languages (docs/wire.md): every
+    /// shared-memory type's size, alignment, iceoryx2 type name and field
+    /// offsets, sizes and types; the schema version and constants; the
+    /// codes of enum and flag fields; and every service's name under the
+    /// namespace with the settings it is created with. docs/wire-layout.json
+    /// is the --json output with the default configuration.
+    WireLayout(WireLayoutArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct WireLayoutArgs {
+    /// Print one JSON object per line (the schema, then each type, each
+    /// set of codes, each service; field `record` says which).
+    #[arg(long)]
+    pub json: bool,
+    /// Service names under this namespace instead of the configuration's
+    /// `[ipc] namespace`.
+    #[arg(long, value_name = "NS")]
+    pub namespace: Option<String>,
+    /// Configuration file (its [ipc] section sizes the services: max_clients,
+    /// max_subscribers, initial_objects).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -25,6 +25,7 @@ mod stdout;
 mod sweep;
 mod table;
 mod viz;
+mod wire_layout;
 
 use std::process::ExitCode;
 
@@ -50,6 +51,7 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
         Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
+        Command::WireLayout(args) => wire_layout::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
