@@ -5,6 +5,7 @@
 //! "it broke".
 
 mod bench;
+mod bench_client;
 mod bench_plot;
 mod bench_query;
 mod cli;
@@ -50,6 +51,7 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
+        Command::Bench(BenchCommand::Client(args)) => bench_client::run(&args),
         Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
         Command::WireLayout(args) => wire_layout::run(&args),
     };
