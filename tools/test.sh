@@ -24,4 +24,4 @@ fi
 # not clients/python/src.
 "$venv/bin/python" -m pytest -q -p no:cacheprovider clients/python/tests
 "$venv/bin/python" -m mypy --config-file clients/python/pyproject.toml \
-  clients/python/src clients/python/tests
+  clients/python/src clients/python/tests clients/python/examples

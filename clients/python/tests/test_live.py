@@ -3,6 +3,7 @@ test under its own iceoryx2 root path and prefix."""
 
 from __future__ import annotations
 
+import ctypes
 import time
 from collections.abc import Callable
 from typing import Any
@@ -13,12 +14,15 @@ import pytest
 from conftest import HUMAN, System, eventually, feature, robot_id, robot_position
 from vref_client import (
     AnswerTimeout,
+    DecisionReader,
     MatcherNotRunning,
     MatcherStats,
     RayPublisher,
     ReferenceClient,
     SnapshotPublisher,
     StatsReader,
+    VrefError,
+    wire,
 )
 from vref_client.services import Connection
 
@@ -255,3 +259,57 @@ def test_queries_check_their_arguments(system: System) -> None:
         for call in bad:
             with pytest.raises(ValueError):
                 call()
+
+
+def test_a_decision_is_read_as_published(system: System) -> None:
+    """The matcher of this version does not publish decisions yet: a
+    publisher of this test writes one as the Rust DecisionPublisher would
+    (same service, same settings), and the reader checks what it claims."""
+    with DecisionReader(**system.ipc) as reader:
+        assert reader.latest() is None
+        conn = Connection.create(system.settings, "decision-writer")
+        data, event = conn.decision()
+        publisher = conn.slice_publisher(data)
+        notifier = event.notifier_builder().create()
+        try:
+
+            def publish(pair_count: int, schema: int = wire.SCHEMA_VERSION) -> None:
+                sample = publisher.loan_slice_uninit(2)
+                header = wire.DecisionHeader.from_address(sample.user_header_ptr)
+                ctypes.memset(ctypes.addressof(header), 0, ctypes.sizeof(header))
+                header.robot_sequence, header.human_sequence, header.solve_index = 7, 9, 1
+                header.rotation[:] = (0, -1, 0, 1, 0, 0, 0, 0, 1)
+                header.translation[:] = (0.1, 0.2, 0.3)
+                header.flags = wire.DECISION_HEADER_FLAGS["motion"]
+                header.method[:5] = tuple(b"rigid")
+                header.pair_count = pair_count
+                header.schema_version = schema
+                entries = (wire.DecisionEntry * 2).from_address(sample.payload_ptr)
+                entries[0] = wire.DecisionEntry(
+                    1, 993, 0.9, 0, wire.DECISION_ENTRY_FLAGS["partner"]
+                )
+                entries[1] = wire.DecisionEntry(2, 0, 0.7, wire.ANSWER_STATUSES["no_match"], 0)
+                sample.assume_init().send()
+                notifier.notify()
+
+            publish(2)
+            decision = reader.wait(timeout=5.0)
+            assert (decision.robot_sequence, decision.human_sequence) == (7, 9)
+            assert decision.method == "rigid"
+            assert decision.rotation is not None and decision.translation is not None
+            assert decision.rotation.tolist() == [[0, -1, 0], [1, 0, 0], [0, 0, 1]]
+            assert [(p.human_track_id, p.robot_track_id, p.status) for p in decision.pairs] == [
+                (1, 993, "ok"),
+                (2, None, "no_match"),
+            ]
+            # A header that claims more pairs than the slice carries, or
+            # another schema, is refused.
+            publish(3)
+            with pytest.raises(VrefError, match="counts 3 pairs but carries 2"):
+                reader.wait(timeout=5.0)
+            publish(2, schema=wire.SCHEMA_VERSION + 1)
+            with pytest.raises(VrefError, match="schema version"):
+                reader.wait(timeout=5.0)
+        finally:
+            notifier.delete()
+            publisher.delete()
