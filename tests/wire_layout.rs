@@ -70,3 +70,43 @@ fn the_readable_layout_names_every_type_and_service() {
         assert!(text.contains(name), "{name} missing:\n{text}");
     }
 }
+
+#[test]
+fn docs_wire_md_shows_every_type_as_printed() {
+    let printed = vref(&["wire-layout", "--json"], Duration::from_secs(30))
+        .ok()
+        .stdout;
+    let doc = std::fs::read_to_string(repo_root().join("docs/wire.md")).unwrap();
+    for t in json_lines(&printed)
+        .iter()
+        .filter(|l| l["record"] == "type")
+    {
+        let heading = format!(
+            "`{}`: {} bytes, align {}",
+            t["type_name"].as_str().unwrap(),
+            t["size"],
+            t["align"]
+        );
+        let start = doc.find(&heading).unwrap_or_else(|| {
+            panic!("docs/wire.md lacks `{heading}`: update its struct blocks to the layout")
+        });
+        let block = &doc[start..];
+        let block = &block[..block.find("};").unwrap()];
+        let lines: Vec<&str> = block.lines().filter(|l| l.contains("// offset")).collect();
+        let fields = t["fields"].as_array().unwrap();
+        assert_eq!(lines.len(), fields.len(), "docs/wire.md, {heading}");
+        for (line, field) in lines.iter().zip(fields) {
+            let name = field["name"].as_str().unwrap();
+            let declared = line.split("//").next().unwrap();
+            assert!(
+                declared.contains(&format!(" {name};")) || declared.contains(&format!(" {name}[")),
+                "docs/wire.md, {heading}: `{line}` is not field {name}"
+            );
+            assert!(
+                line.ends_with(&format!("// offset {}", field["offset"])),
+                "docs/wire.md, {heading}: `{line}`, expected offset {}",
+                field["offset"]
+            );
+        }
+    }
+}
