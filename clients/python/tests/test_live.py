@@ -69,6 +69,9 @@ def test_every_kind_of_query_is_answered_from_the_rust_feeds(system: System) -> 
             r = client.by_ray((0.0, 0.0, 0.0), p, 0.05, timeout=2.0)
             assert (r.status, r.human_object_id, r.robot_track_id) == ("ok", h, robot_id(h))
         assert client.by_human_object(99, timeout=2.0).status == "bad_request"
+        # iceoryx2's own send_copy, the fallback of the direct send.
+        client._send = client._send_public
+        assert client.by_human_object(2, timeout=2.0).robot_track_id == robot_id(2)
         # Pointing at nothing: no human object in the cone.
         assert client.by_ray((0, 0, 0), (0, -1, 0), 0.05, timeout=2.0).status == "no_match"
         # The dataset feed points at nothing; a Python headset bridge does.

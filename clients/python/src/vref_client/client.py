@@ -3,18 +3,18 @@
 from __future__ import annotations
 
 import ctypes
+import struct
 import time
-from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import Any, NamedTuple
 
 import iceoryx2 as iox2
 import numpy as np
 
 from . import wire
-from .errors import AnswerTimeout, MatcherNotRunning, WrongAnswer
+from .errors import AnswerTimeout, MatcherNotRunning, VrefError, WrongAnswer
 from .services import Endpoint, IpcSettings, node_name, wrap
-from .validate import check_timeout, check_u64, ray_parts
+from .validate import U64_MAX, check_timeout, check_u64, ray_parts
 
 #: Longest single sleep while waiting for an answer: the pending response
 #: is re-checked at least this often, whatever the events say (as the Rust
@@ -24,24 +24,38 @@ POLL_S = 0.02
 DEFAULT_CONE = 0.1
 
 _STATUS_NAMES = {code: name for name, code in wire.ANSWER_STATUSES.items()}
+_ANSWER_SIZE = ctypes.sizeof(wire.ReferenceAnswer)
+_QUERY_SIZE = ctypes.sizeof(wire.ReferenceQuery)
+_POLL = iox2.Duration.from_secs_f64(POLL_S)
+_INF = float("inf")
+_HUMAN_OBJECT = wire.QUERY_KINDS["human_object"]
+_LATEST_GESTURE = wire.QUERY_KINDS["latest_gesture"]
 
 
-@dataclass(frozen=True)
-class Alternative:
+class Alternative(NamedTuple):
     """A next-best robot object and the solution's share for it."""
 
     robot_track_id: int
     confidence: float
 
 
-@dataclass(frozen=True)
-class Answer:
-    """The matcher's answer to one query.
+#: ``ReferenceAnswer`` as one ``struct`` unpack (little-endian, no padding:
+#: the wire type has none); tests/test_client.py checks it against the
+#: ctypes structure, which tests/test_layout.py checks against the layout.
+ANSWER_STRUCT = struct.Struct("<9Q3f3ff3I" + "QfI" * wire.MAX_ALTERNATIVES + "II")
+_SOLVED = wire.ANSWER_FLAGS["solved"]
+_HUMAN_POSITION = wire.ANSWER_FLAGS["human_position"]
+_FROM_MOTION = wire.ANSWER_FLAGS["human_position_from_motion"]
+
+
+class Answer(NamedTuple):
+    """The matcher's answer to one query (immutable).
 
     ``status`` is one of ``ok``, ``ambiguous`` (below the confidence
     threshold: see the alternatives), ``no_match`` (the referred object has
-    no partner in the robot view), ``not_ready`` (a feed has not delivered
-    yet), ``stale`` (a feed went silent: see the ages) or ``bad_request``.
+    no partner in the robot view, or no object is in the ray's cone),
+    ``not_ready`` (a feed has not delivered yet, or no ray yet), ``stale``
+    (a feed went silent: see the ages) or ``bad_request``.
     """
 
     status: str
@@ -85,42 +99,38 @@ class Answer:
         return self.status == "ok"
 
     @staticmethod
-    def from_wire(a: wire.ReferenceAnswer) -> Answer:
-        flags = int(a.flags)
-        count = min(int(a.alternative_count), wire.MAX_ALTERNATIVES)
-        has_human = bool(flags & wire.ANSWER_FLAGS["human_position"])
+    def from_bytes(raw: bytes) -> Answer:
+        """An answer from the bytes of a ``ReferenceAnswer``."""
+        v = ANSWER_STRUCT.unpack(raw)
+        # 0-8 the u64s, 9-11 position, 12-14 human_frame_position,
+        # 15 confidence, 16 status, 17 alternative_count, 18 schema_version,
+        # 19-27 alternatives (id, confidence, reserved), 28 flags.
+        flags = v[28]
+        count = min(v[17], wire.MAX_ALTERNATIVES)
         return Answer(
-            status=_STATUS_NAMES.get(int(a.status), "bad_request"),
-            request_id=int(a.request_id),
-            human_object_id=int(a.human_object_id),
-            robot_track_id=int(a.robot_track_id),
-            position=(float(a.position[0]), float(a.position[1]), float(a.position[2])),
-            confidence=float(a.confidence),
-            alternatives=tuple(
-                Alternative(int(alt.robot_track_id), float(alt.confidence))
-                for alt in a.alternatives[:count]
-            ),
-            robot_sequence=int(a.robot_sequence),
-            human_sequence=int(a.human_sequence),
-            robot_age_us=int(a.robot_age_us),
-            human_age_us=int(a.human_age_us),
-            solved=bool(flags & wire.ANSWER_FLAGS["solved"]),
-            solve_age_us=int(a.solve_age_us),
-            ray_age_us=int(a.ray_age_us),
-            human_frame_position=(
-                (
-                    float(a.human_frame_position[0]),
-                    float(a.human_frame_position[1]),
-                    float(a.human_frame_position[2]),
-                )
-                if has_human
-                else None
-            ),
-            human_frame_position_from_motion=bool(
-                flags & wire.ANSWER_FLAGS["human_position_from_motion"]
-            ),
-            flags=flags,
+            _STATUS_NAMES.get(v[16], "bad_request"),
+            v[0],
+            v[1],
+            v[2],
+            (v[9], v[10], v[11]),
+            v[15],
+            tuple(Alternative(v[19 + 3 * k], v[20 + 3 * k]) for k in range(count)),
+            v[3],
+            v[4],
+            v[5],
+            v[6],
+            bool(flags & _SOLVED),
+            v[7],
+            v[8],
+            (v[12], v[13], v[14]) if flags & _HUMAN_POSITION else None,
+            bool(flags & _FROM_MOTION),
+            flags,
         )
+
+    @staticmethod
+    def from_wire(a: wire.ReferenceAnswer) -> Answer:
+        """An answer from a ctypes ``ReferenceAnswer``."""
+        return Answer.from_bytes(ctypes.string_at(ctypes.addressof(a), ctypes.sizeof(a)))
 
 
 class ReferenceClient(Endpoint):
@@ -169,7 +179,7 @@ class ReferenceClient(Endpoint):
             node=node,
         )
 
-    _HANDLES = ("_reference", "_client", "_request_notifier", "_answers")
+    _HANDLES = ("_reference", "_client", "_request_notifier", "_answers", "_loan")
 
     def _open(self, settings: IpcSettings, name: str) -> None:
         conn = self._connect(settings, name)
@@ -183,15 +193,23 @@ class ReferenceClient(Endpoint):
         except Exception as e:
             raise wrap("creating the reference client's ports", e) from e
         self._next_request = 1
-        self._query = wire.ReferenceQuery()
+        self._query = wire.ReferenceQuery(schema_version=wire.SCHEMA_VERSION)
+        self._query_address = ctypes.addressof(self._query)
+        loan = getattr(self._client, "__loan_uninit", None)
+        if loan is not None and hasattr(iox2.RequestMutUninit, "__assume_init"):
+            self._loan = loan
+            self._send: Callable[[], Any] = self._send_direct
+        else:
+            self._send = self._send_public
 
     # -- queries ---------------------------------------------------------
 
     def by_human_object(self, id: int, timeout: float = 1.0) -> Answer:
         """Which robot object is human object ``id``?"""
-        human = check_u64("id", id)
-        wait = check_timeout(timeout)
-        return self._ask(wire.QUERY_KINDS["human_object"], human, None, wait)
+        # Plain ints and floats pass without a call; anything else is checked.
+        human = id if type(id) is int and 0 <= id <= U64_MAX else check_u64("id", id)
+        wait = timeout if type(timeout) is float and 0 < timeout < _INF else check_timeout(timeout)
+        return self._ask(_HUMAN_OBJECT, human, None, wait)
 
     def by_ray(
         self,
@@ -210,8 +228,8 @@ class ReferenceClient(Endpoint):
 
     def latest_gesture(self, timeout: float = 1.0) -> Answer:
         """Which robot object does the latest pointing gesture point at?"""
-        wait = check_timeout(timeout)
-        return self._ask(wire.QUERY_KINDS["latest_gesture"], 0, None, wait)
+        wait = timeout if type(timeout) is float and 0 < timeout < _INF else check_timeout(timeout)
+        return self._ask(_LATEST_GESTURE, 0, None, wait)
 
     # -- the matcher -----------------------------------------------------
 
@@ -247,53 +265,78 @@ class ReferenceClient(Endpoint):
         ray: tuple[tuple[float, float, float], tuple[float, float, float], float] | None,
         timeout: float,
     ) -> Answer:
+        # The query path is kept short: every Python step costs more than the
+        # iceoryx2 round trip it wraps, the more so on a busy machine.
         deadline = time.monotonic() + timeout
-        if not self.matcher_running:
-            raise MatcherNotRunning(self._not_running("now"))
+        if self._conn is None:
+            raise VrefError("this ReferenceClient is closed")
         request_id = self._next_request
-        self._next_request += 1
+        self._next_request = request_id + 1
         q = self._query
         q.request_id = request_id
         q.human_object_id = human_id
         if ray is None:
-            q.ray_origin[:] = (0.0, 0.0, 0.0)
-            q.ray_direction[:] = (0.0, 0.0, 0.0)
-            q.cone_half_angle = 0.0
+            if q.cone_half_angle:
+                q.ray_origin[:] = (0.0, 0.0, 0.0)
+                q.ray_direction[:] = (0.0, 0.0, 0.0)
+                q.cone_half_angle = 0.0
         else:
             q.ray_origin[:] = ray[0]
             q.ray_direction[:] = ray[1]
             q.cone_half_angle = ray[2]
         q.kind = kind
-        q.schema_version = wire.SCHEMA_VERSION
         try:
-            pending = self._client.loan_uninit().write_payload(q).send()
-            self._request_notifier.notify()
+            pending = self._send()
         except Exception as e:
             raise wrap("sending a reference query", e) from e
         try:
+            if pending.number_of_server_connections == 0:
+                raise MatcherNotRunning(self._not_running("now"))
+            try:
+                self._request_notifier.notify()
+            except Exception as e:
+                raise wrap("notifying the matcher of a query", e) from e
             return self._wait(pending, request_id, deadline, timeout)
         finally:
             pending.delete()
 
+    def _send_public(self) -> Any:
+        """Loans a request, copies the query in, sends it (iceoryx2's API)."""
+        return self._client.send_copy(self._query)
+
+    def _send_direct(self) -> Any:
+        """``_send_public`` without the Python wrapper's checks, through the
+        two native calls it makes (iceoryx2 0.10.0, pinned); the checks it
+        skips hold by construction (one request type, of the right size)."""
+        request = self._loan()
+        ctypes.memmove(request.payload_ptr, self._query_address, _QUERY_SIZE)
+        return getattr(request, "__assume_init")().send()
+
     def _wait(self, pending: Any, request_id: int, deadline: float, timeout: float) -> Answer:
-        answer = wire.ReferenceAnswer()
-        size = ctypes.sizeof(answer)
         while True:
             try:
-                connected = bool(pending.is_connected)
                 response = pending.receive()
+                if response is None and not pending.is_connected:
+                    # The server let the request go: an answer sent just
+                    # before that is in by now, or none will come.
+                    response = pending.receive()
+                    if response is None:
+                        raise MatcherNotRunning(
+                            self._not_running("any more: it stopped before answering")
+                        )
+            except VrefError:
+                raise
             except Exception as e:
                 raise wrap("receiving an answer", e) from e
             if response is not None:
-                ctypes.memmove(ctypes.addressof(answer), response.payload_ptr, size)
+                raw = ctypes.string_at(response.payload_ptr, _ANSWER_SIZE)
                 response.delete()
+                answer = Answer.from_bytes(raw)
                 if answer.request_id != request_id:
                     raise WrongAnswer(
                         f"the answer echoed request {answer.request_id}, expected {request_id}"
                     )
-                return Answer.from_wire(answer)
-            if not connected:
-                raise MatcherNotRunning(self._not_running("any more: it stopped before answering"))
+                return answer
             left = deadline - time.monotonic()
             if left <= 0:
                 # A matcher that died leaves its server registered until
@@ -304,6 +347,9 @@ class ReferenceClient(Endpoint):
                     raise MatcherNotRunning(self._not_running("any more: its process is gone"))
                 raise AnswerTimeout(f"no answer from the matcher within {timeout:g} s")
             try:
-                self._answers.timed_wait(iox2.Duration.from_secs_f64(min(left, POLL_S)))
+                if left >= POLL_S:
+                    self._answers.timed_wait(_POLL)
+                else:
+                    self._answers.timed_wait(iox2.Duration.from_secs_f64(left))
             except Exception as e:
                 raise wrap("waiting for an answer", e) from e
