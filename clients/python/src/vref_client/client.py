@@ -48,6 +48,16 @@ _HUMAN_POSITION = wire.ANSWER_FLAGS["human_position"]
 _FROM_MOTION = wire.ANSWER_FLAGS["human_position_from_motion"]
 
 
+def _alternatives(v: tuple[Any, ...], count: int) -> tuple[Alternative, ...]:
+    if count == 0:
+        return ()
+    if count == 1:
+        return (Alternative(v[19], v[20]),)
+    if count == 2:
+        return (Alternative(v[19], v[20]), Alternative(v[22], v[23]))
+    return (Alternative(v[19], v[20]), Alternative(v[22], v[23]), Alternative(v[25], v[26]))
+
+
 class Answer(NamedTuple):
     """The matcher's answer to one query (immutable).
 
@@ -114,7 +124,7 @@ class Answer(NamedTuple):
             v[2],
             (v[9], v[10], v[11]),
             v[15],
-            tuple(Alternative(v[19 + 3 * k], v[20 + 3 * k]) for k in range(count)),
+            _alternatives(v, count),
             v[3],
             v[4],
             v[5],
