@@ -107,3 +107,60 @@ fn too_few_objects_or_a_bad_rate_are_bad_input() {
         assert_eq!(run.code, Some(2), "{args:?}: {}", run.stderr);
     }
 }
+
+#[test]
+fn the_client_bench_measures_a_running_matcher() {
+    let mut h = Harness::new("bc", "");
+    h.start("matcher", "vref-matcher", &[]);
+    h.start("perception", "vref-perception-feed", &["--objects", "8"]);
+    h.start("gesture", "vref-gesture-feed", &["--objects", "8"]);
+    let run = support::vref(
+        &[
+            "bench",
+            "client",
+            "--rate",
+            "100",
+            "--duration",
+            "2s",
+            "--json",
+            "--config",
+            h.config_arg(),
+        ],
+        Duration::from_secs(120),
+    )
+    .ok();
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert_eq!(lines.len(), 1, "exactly one JSON object:\n{}", run.stdout);
+    let report: serde_json::Value = serde_json::from_str(lines[0]).unwrap();
+    assert_eq!(report["client"], "rust", "{report}");
+    let cached = report["cached_count"].as_u64().unwrap();
+    assert!(cached > 0, "no cached answers: {report}");
+    let p50 = report["cached_p50_us"].as_f64().unwrap();
+    let p99 = report["cached_p99_us"].as_f64().unwrap();
+    assert!(0.0 < p50 && p50 <= p99, "{report}");
+    assert_eq!(
+        (&report["timeouts"], &report["errors"]),
+        (&0.into(), &0.into()),
+        "{report}"
+    );
+}
+
+#[test]
+fn the_client_bench_without_a_matcher_fails_and_says_so() {
+    let h = Harness::new("bcn", "");
+    let run = support::vref(
+        &[
+            "bench",
+            "client",
+            "--duration",
+            "1s",
+            "--ready-within",
+            "1s",
+            "--config",
+            h.config_arg(),
+        ],
+        Duration::from_secs(60),
+    );
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(run.stderr.contains("no ok or ambiguous"), "{}", run.stderr);
+}

@@ -8,12 +8,14 @@
 //! [`bytes`] writes them as bytes for recordings and reads them back.
 //!
 //! [`ipc`] names and creates every service in one place and holds the
-//! publishers and the client library that robot tasks link.
+//! publishers and the client library that robot tasks link; [`layout`]
+//! describes the types for other languages.
 
 pub mod bytes;
 mod error;
 pub mod fuzz_input;
 pub mod ipc;
+pub mod layout;
 mod messages;
 mod snapshot;
 

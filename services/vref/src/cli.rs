@@ -68,6 +68,29 @@ pub enum Command {
     /// Benchmarks that print percentiles (never pass/fail).
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Print the wire contract for other languages (docs/wire.md): every
+    /// shared-memory type's size, alignment, iceoryx2 type name and field
+    /// offsets, sizes and types; the schema version and constants; the
+    /// codes of enum and flag fields; and every service's name under the
+    /// namespace with the settings it is created with. docs/wire-layout.json
+    /// is the --json output with the default configuration.
+    WireLayout(WireLayoutArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct WireLayoutArgs {
+    /// Print one JSON object per line (the schema, then each type, each
+    /// set of codes, each service; field `record` says which).
+    #[arg(long)]
+    pub json: bool,
+    /// Service names under this namespace instead of the configuration's
+    /// `[ipc] namespace`.
+    #[arg(long, value_name = "NS")]
+    pub namespace: Option<String>,
+    /// Configuration file (its [ipc] section sizes the services: max_clients,
+    /// max_subscribers, initial_objects).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]
@@ -472,6 +495,13 @@ pub enum BenchCommand {
     /// their ratio. Each tick asks the matcher twice and the echo once, in
     /// rotating order.
     Query(BenchQueryArgs),
+    /// Query a matcher that is already running (its [ipc] settings from
+    /// --config) with a Rust ReferenceClient, one latest-gesture query at a
+    /// time at --rate, and print round-trip percentiles of answers from the
+    /// cached solution and of answers after a solve. `python -m
+    /// vref_client.bench` runs it beside the Python client on the same
+    /// matcher.
+    Client(BenchClientArgs),
     /// Draw solve time against object count (log-log) from the JSON lines
     /// of `vref bench solver --json` and of tools/pygmtools_bench.py
     /// --json: one curve per method and tier, one per pygmtools method.
@@ -546,6 +576,26 @@ pub struct BenchPerceptionArgs {
     #[arg(long)]
     pub json: bool,
     /// Configuration file ([perception] settings).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchClientArgs {
+    /// Queries per second, one at a time.
+    #[arg(long, value_name = "HZ", default_value_t = 200.0, value_parser = positive_rate)]
+    pub rate: f64,
+    /// How long to measure once the matcher answers, e.g. 10s.
+    #[arg(long, value_name = "D", default_value = "10s", value_parser = crate::duration::parse_duration)]
+    pub duration: std::time::Duration,
+    /// How long to wait for a first ok or ambiguous answer, e.g. 30s.
+    #[arg(long, value_name = "D", default_value = "30s", value_parser = crate::duration::parse_duration)]
+    pub ready_within: std::time::Duration,
+    /// Print one JSON object: cached_/solve_ p50 and p99 in microseconds,
+    /// counts, timeouts, errors.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file (its [ipc] section says where the matcher is).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
 }

@@ -5,6 +5,7 @@
 //! "it broke".
 
 mod bench;
+mod bench_client;
 mod bench_perception;
 mod bench_plot;
 mod bench_query;
@@ -27,6 +28,7 @@ mod sweep;
 mod table;
 mod view;
 mod viz;
+mod wire_layout;
 
 use std::process::ExitCode;
 
@@ -54,7 +56,9 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
         Command::Bench(BenchCommand::Perception(args)) => bench_perception::perception(&args),
+        Command::Bench(BenchCommand::Client(args)) => bench_client::run(&args),
         Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
+        Command::WireLayout(args) => wire_layout::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,7 +4,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use super::error::{IpcError, iceoryx_err};
-use super::{IpcSettings, Node, create_node, open_decision};
+use super::{IpcSettings, Node, create_node, open_decision, slice_publisher_qos};
 use crate::{DecisionEntry, DecisionHeader, MAX_DECISION_PAIRS, SCHEMA_VERSION};
 
 /// The matcher's side: publishes each finished solve's decision, written in
@@ -22,11 +22,12 @@ impl std::fmt::Debug for DecisionPublisher {
 
 impl DecisionPublisher {
     pub fn new(node: &Node, settings: &IpcSettings) -> Result<Self, IpcError> {
+        let qos = slice_publisher_qos(settings);
         let (data, event) = open_decision(node, settings)?;
         let publisher = data
             .publisher_builder()
-            .initial_max_slice_len(settings.initial_objects.max(1))
-            .allocation_strategy(AllocationStrategy::PowerOfTwo)
+            .initial_max_slice_len(qos.initial_max_slice_len)
+            .allocation_strategy(qos.allocation_strategy)
             .create()
             .map_err(|e| iceoryx_err("creating decision publisher", e))?;
         let notifier = event

@@ -21,9 +21,11 @@ pub use node::{Node, create_node, now_ns};
 pub use publishers::{GesturePublisher, SnapshotPublisher};
 pub use server::{ClientId, ReferenceServer, Served, answer_waiting};
 pub use services::{
-    AnswerPort, DecisionPort, EventPort, GesturePort, ReferencePort, SnapshotPort, StatsPort,
-    open_answer_event, open_decision, open_gesture, open_reference, open_request_event,
-    open_snapshot, open_stats,
+    AnswerPort, DecisionPort, EventPort, EventQos, GesturePort, Pattern, PublishSubscribeQos,
+    ReferencePort, RequestResponseQos, ServiceSpec, SlicePublisherQos, SnapshotPort, StatsPort,
+    TypeRef, catalogue, decision_qos, event_qos, gesture_qos, open_answer_event, open_decision,
+    open_gesture, open_reference, open_request_event, open_snapshot, open_stats, reference_qos,
+    slice_publisher_qos, snapshot_qos, stats_qos,
 };
 pub use settings::IpcSettings;
 pub use stats::{StatsPublisher, StatsReader};

@@ -4,7 +4,7 @@ use iceoryx2::prelude::*;
 use vref_scene::Side;
 
 use super::error::{IpcError, iceoryx_err};
-use super::{IpcSettings, Node, now_ns, open_gesture, open_snapshot};
+use super::{IpcSettings, Node, now_ns, open_gesture, open_snapshot, slice_publisher_qos};
 use crate::{FRAME_NAME_LEN, ObjectEntry, PointingRay, SCHEMA_VERSION, SideCode, SnapshotHeader};
 
 /// Publishes one side's snapshots, written in place into loaned shared
@@ -35,11 +35,12 @@ impl SnapshotPublisher {
         side: Side,
         frame_name: &str,
     ) -> Result<Self, IpcError> {
+        let qos = slice_publisher_qos(settings);
         let (data, event) = open_snapshot(node, settings, side)?;
         let publisher = data
             .publisher_builder()
-            .initial_max_slice_len(settings.initial_objects.max(1))
-            .allocation_strategy(AllocationStrategy::PowerOfTwo)
+            .initial_max_slice_len(qos.initial_max_slice_len)
+            .allocation_strategy(qos.allocation_strategy)
             .create()
             .map_err(|e| iceoryx_err("creating snapshot publisher", e))?;
         let notifier = event

@@ -1,0 +1,195 @@
+//! `vref wire-layout`: the wire contract for other languages, printed from
+//! the types and the service catalogue themselves (vref_wire::layout,
+//! vref_wire::ipc::catalogue). docs/wire-layout.json is this command's
+//! `--json` output, kept equal by a test.
+
+use serde_json::{Value, json};
+use vref_config::Config;
+use vref_reference::RejectReason;
+use vref_wire::ipc::{IpcSettings, Pattern, catalogue};
+use vref_wire::layout::{Codes, codes, constants, wire_types};
+
+use crate::cli::WireLayoutArgs;
+use crate::failure::{Blame, Failure};
+use crate::stdout;
+use crate::table::Table;
+
+/// The iceoryx2 version every process sharing the services must run
+/// (Cargo.toml pins it exactly; a test checks Cargo.lock agrees).
+pub const ICEORYX2_VERSION: &str = "0.10.0";
+
+pub fn run(args: &WireLayoutArgs) -> Result<(), Failure> {
+    let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
+    let mut ipc = config.ipc;
+    if let Some(namespace) = &args.namespace {
+        ipc.namespace.clone_from(namespace);
+    }
+    let text = if args.json {
+        lines(&ipc)
+            .iter()
+            .map(|line| format!("{line}\n"))
+            .collect::<String>()
+    } else {
+        readable(&ipc)
+    };
+    stdout::print(&text)
+}
+
+/// The matcher's reject reasons: the index of `MatcherStats.rejected`.
+fn reject_reasons() -> Codes {
+    Codes {
+        name: "RejectReason",
+        used_in: vec!["MatcherStats.rejected"],
+        kind: "index",
+        values: RejectReason::ALL
+            .into_iter()
+            .map(|r| vref_wire::layout::Code {
+                name: r.name(),
+                value: r as u32,
+            })
+            .collect(),
+    }
+}
+
+fn all_codes() -> Vec<Codes> {
+    let mut all = codes();
+    all.push(reject_reasons());
+    all
+}
+
+/// One JSON object per line: the schema and constants, then each type,
+/// each set of codes, each service.
+pub fn lines(ipc: &IpcSettings) -> Vec<Value> {
+    let constants: serde_json::Map<String, Value> = constants()
+        .into_iter()
+        .map(|c| (c.name.to_owned(), json!(c.value)))
+        .collect();
+    let mut lines = vec![json!({
+        "record": "schema",
+        "schema_version": vref_wire::SCHEMA_VERSION,
+        "iceoryx2": ICEORYX2_VERSION,
+        "namespace": ipc.namespace,
+        "max_clients": ipc.max_clients,
+        "max_subscribers": ipc.max_subscribers,
+        "initial_objects": ipc.initial_objects,
+        "constants": constants,
+    })];
+    let tagged = |record: &str, value: Value| {
+        let mut value = value;
+        if let Value::Object(map) = &mut value {
+            map.insert("record".to_owned(), json!(record));
+        }
+        value
+    };
+    for t in wire_types() {
+        lines.push(tagged("type", json!(t)));
+    }
+    for c in all_codes() {
+        lines.push(tagged("codes", json!(c)));
+    }
+    for s in catalogue(ipc) {
+        lines.push(tagged("service", json!(s)));
+    }
+    lines
+}
+
+fn readable(ipc: &IpcSettings) -> String {
+    let mut out = format!(
+        "vref wire schema {}, iceoryx2 {ICEORYX2_VERSION}, namespace {}\n",
+        vref_wire::SCHEMA_VERSION,
+        ipc.namespace
+    );
+    for t in wire_types() {
+        out += &format!(
+            "\n{} (type name {}, {} bytes, align {})\n",
+            t.name, t.type_name, t.size, t.align
+        );
+        let mut table = Table::new(&["field", "offset", "size", "type"]);
+        for f in &t.fields {
+            table.row(vec![
+                f.name.to_owned(),
+                f.offset.to_string(),
+                f.size.to_string(),
+                f.ty.clone(),
+            ]);
+        }
+        out += &table.to_string();
+    }
+    out += "\n";
+    for c in all_codes() {
+        let values: Vec<String> = c
+            .values
+            .iter()
+            .map(|v| format!("{} = {}", v.name, v.value))
+            .collect();
+        out += &format!("{} ({}): {}\n", c.name, c.kind, values.join(", "));
+    }
+    out += "\nservices (their settings: --json)\n";
+    for s in catalogue(ipc) {
+        let line = match &s.pattern {
+            Pattern::PublishSubscribe {
+                payload,
+                user_header,
+                event,
+                ..
+            } => {
+                let mut line = if payload.variant == "dynamic" {
+                    format!("publish-subscribe [{}]", payload.type_name)
+                } else {
+                    format!("publish-subscribe {}", payload.type_name)
+                };
+                if let Some(h) = user_header {
+                    line += &format!(" with user header {}", h.type_name);
+                }
+                match event {
+                    Some(e) => line += &format!("; event {e}"),
+                    None => line += "; no event (readers poll)",
+                }
+                line
+            }
+            Pattern::RequestResponse {
+                request,
+                response,
+                request_event,
+                response_event,
+                ..
+            } => format!(
+                "request-response {} -> {}; events {request_event} (requests), {response_event} (answers)",
+                request.type_name, response.type_name
+            ),
+            Pattern::Event {
+                notifier, listener, ..
+            } => format!("event: notified by {notifier}; listener {listener}"),
+        };
+        out += &format!("  {}: {line}\n", s.name);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use super::*;
+
+    #[test]
+    fn every_line_is_a_tagged_object() {
+        let lines = lines(&IpcSettings::default());
+        assert_eq!(lines[0]["record"], "schema");
+        assert_eq!(lines[0]["schema_version"], vref_wire::SCHEMA_VERSION);
+        for line in &lines {
+            assert!(line["record"].is_string(), "{line}");
+        }
+        let services = lines.iter().filter(|l| l["record"] == "service").count();
+        assert_eq!(services, catalogue(&IpcSettings::default()).len());
+    }
+
+    #[test]
+    fn reject_reasons_fit_the_stats_slots() {
+        let reasons = reject_reasons();
+        assert!(reasons.values.len() <= vref_wire::MAX_REJECT_REASONS);
+        for (index, code) in reasons.values.iter().enumerate() {
+            assert_eq!(code.value as usize, index, "{}", code.name);
+        }
+    }
+}

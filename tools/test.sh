@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# The test command: the Rust workspace's tests, then the Python client's
+# (clients/python) in a virtual environment of its own, against the
+# service binaries the Rust tests just built (target/debug).
+#
+#   bash tools/test.sh
+#
+# Needs python3 (3.10 or newer) with the venv module, and PyPI for the
+# first run (iceoryx2 0.10.0, numpy, pytest, mypy). Set VREF_VENV to put
+# the environment elsewhere (default target/python-venv).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+cargo test --workspace --locked
+
+venv="${VREF_VENV:-target/python-venv}"
+python="${PYTHON:-python3}"
+if [ ! -x "$venv/bin/python" ]; then
+  "$python" -m venv "$venv"
+fi
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+  ./clients/python pytest==9.2.0 mypy==2.4.1
+# From the repository root the package under test is the installed one,
+# not clients/python/src.
+"$venv/bin/python" -m pytest -q -p no:cacheprovider clients/python/tests
+"$venv/bin/python" -m mypy --config-file clients/python/pyproject.toml \
+  clients/python/src clients/python/tests clients/python/examples
