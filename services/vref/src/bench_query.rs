@@ -92,19 +92,19 @@ pub fn query(args: &BenchQueryArgs) -> Result<(), Failure> {
 
 /// Round trips of one kind, microseconds.
 #[derive(Debug, Default)]
-struct Samples(Vec<f64>);
+pub struct Samples(Vec<f64>);
 
 impl Samples {
-    fn push(&mut self, d: Duration) {
+    pub fn push(&mut self, d: Duration) {
         self.0.push(d.as_secs_f64() * 1e6);
     }
 
-    fn count(&self) -> usize {
+    pub fn count(&self) -> usize {
         self.0.len()
     }
 
     /// Nearest-rank percentile; `None` without samples.
-    fn percentile(&self, q: f64) -> Option<f64> {
+    pub fn percentile(&self, q: f64) -> Option<f64> {
         let mut sorted = self.0.clone();
         sorted.sort_by(f64::total_cmp);
         if sorted.is_empty() {
@@ -233,7 +233,7 @@ fn failed(report: &mut Report, error: &vref_wire::ipc::IpcError) {
 
 /// Track ids of the objects the headset sees now: what the gesture feed
 /// publishes, so queries about them reach the solution.
-fn human_ids(world: &LiveWorld) -> Vec<u64> {
+pub fn human_ids(world: &LiveWorld) -> Vec<u64> {
     let t = now_ns() as f64 / 1e9;
     world
         .detected(Side::Human, t)
@@ -277,7 +277,7 @@ fn wait_ready(
 }
 
 /// Microseconds to one decimal, `null` without samples.
-fn us(value: Option<f64>) -> serde_json::Value {
+pub fn us(value: Option<f64>) -> serde_json::Value {
     value.map_or(serde_json::Value::Null, |v| {
         serde_json::json!((v * 10.0).round() / 10.0)
     })

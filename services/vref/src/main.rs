@@ -7,6 +7,7 @@
 mod bench;
 mod bench_plot;
 mod bench_query;
+mod bench_remote;
 mod cli;
 mod config_cmd;
 mod demo;
@@ -48,6 +49,7 @@ fn main() -> ExitCode {
         Command::Soak(args) => soak::run(&args),
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
+        Command::Bench(BenchCommand::Remote(args)) => bench_remote::remote(&args),
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
         Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
     };
