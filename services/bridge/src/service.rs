@@ -128,16 +128,28 @@ pub fn run(config: &Config) -> Result<(), Failure> {
         "bridge ready"
     );
 
-    let stats = |taken_ns| BridgeStats {
-        started_ns,
-        taken_ns,
-        pid: std::process::id(),
-        prefix: keys.prefix().to_owned(),
-        session: session_id,
-        human_snapshot: lock(&shared.intake).snapshot_counters().clone(),
-        human_gesture: lock(&shared.intake).ray_counters().clone(),
-        reference: lock(&shared.queries).counters().clone(),
-        published: lock(&shared.published).clone(),
+    let stats = |taken_ns| {
+        // One lock at a time: each guard is dropped before the next is taken.
+        let (human_snapshot, human_gesture) = {
+            let intake = lock(&shared.intake);
+            (
+                intake.snapshot_counters().clone(),
+                intake.ray_counters().clone(),
+            )
+        };
+        let reference = lock(&shared.queries).counters().clone();
+        let published = lock(&shared.published).clone();
+        BridgeStats {
+            started_ns,
+            taken_ns,
+            pid: std::process::id(),
+            prefix: keys.prefix().to_owned(),
+            session: session_id,
+            human_snapshot,
+            human_gesture,
+            reference,
+            published,
+        }
     };
     let mut last_stats = Instant::now();
     let mut last_report = Instant::now();
