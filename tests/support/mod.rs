@@ -3,6 +3,7 @@
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub mod processes;
+pub mod remote;
 pub mod table;
 
 use std::io::Read;

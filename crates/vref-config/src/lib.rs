@@ -3,6 +3,8 @@
 //! Unknown keys are errors (a misspelt key must not silently fall back to
 //! a default), and values are validated when loaded.
 
+mod bridge;
+
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -11,6 +13,10 @@ use vref_perception::{PerceptionSettings, SettingsError};
 use vref_reference::MatcherSettings;
 use vref_scene::Limits;
 use vref_wire::ipc::IpcSettings;
+
+pub use bridge::{
+    BridgeSettings, StateEncoding, TRANSPORTS, ZenohMode, check_endpoint, check_prefix,
+};
 
 /// Environment variable naming a configuration file.
 pub const CONFIG_ENV: &str = "VREF_CONFIG";
@@ -60,6 +66,7 @@ pub struct Config {
     pub ipc: IpcSettings,
     pub feeds: FeedSettings,
     pub perception: PerceptionSettings,
+    pub bridge: BridgeSettings,
 }
 
 /// The `[feeds]` section: how the synthetic feeds publish.
@@ -284,6 +291,8 @@ impl Config {
                 ));
             }
         }
-        Ok(())
+        self.bridge
+            .check()
+            .map_err(|message| section("bridge", message))
     }
 }

@@ -338,7 +338,7 @@ fn failed(report: &mut Report, error: &vref_wire::ipc::IpcError) {
 
 /// Track ids of the objects the headset sees now: what the gesture feed
 /// publishes, so queries about them reach the solution.
-fn human_ids(world: &LiveWorld) -> Vec<u64> {
+pub fn human_ids(world: &LiveWorld) -> Vec<u64> {
     let t = now_ns() as f64 / 1e9;
     world
         .detected(Side::Human, t)

@@ -343,6 +343,18 @@ pub struct QueryArgs {
     /// Print the answer as one JSON object.
     #[arg(long)]
     pub json: bool,
+    /// Ask over Zenoh from another computer, through the robot's
+    /// vref-bridge reachable at this endpoint (tcp/HOST:PORT), instead of
+    /// the local matcher over shared memory.
+    #[arg(long, value_name = "ENDPOINT")]
+    pub remote: Option<String>,
+    /// With --remote: the robot's key prefix, e.g. vref/robot1 (default:
+    /// the configuration's [bridge] prefix).
+    #[arg(long, value_name = "P", requires = "remote")]
+    pub prefix: Option<String>,
+    /// With --remote: how the query and answer travel, json or binary.
+    #[arg(long, value_name = "E", default_value = "json", requires = "remote")]
+    pub encoding: vref_bridge::Format,
     /// Configuration file (its [ipc] section says where the matcher is).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
@@ -497,11 +509,19 @@ pub enum BenchCommand {
     Query(BenchQueryArgs),
     /// Query a matcher that is already running (its [ipc] settings from
     /// --config) with a Rust ReferenceClient, one latest-gesture query at a
-    /// time at --rate, and print round-trip percentiles of answers from the
-    /// cached solution and of answers after a solve. `python -m
+    /// time at --rate, and print round-trip percentiles of answers from a
+    /// solution an earlier answer came from and of the first answer from
+    /// each new solution. `python -m
     /// vref_client.bench` runs it beside the Python client on the same
     /// matcher.
     Client(BenchClientArgs),
+    /// Run the matcher, both feeds and vref-bridge (synthetic world, under
+    /// a root path, prefix and loopback port of their own), and send
+    /// reference queries at --rate both ways in the same run: over Zenoh
+    /// through the bridge (as a controller on another computer would) and
+    /// over iceoryx2 to the matcher directly. Prints the round-trip
+    /// percentiles of each and what the bridge adds.
+    Remote(BenchRemoteArgs),
     /// Draw solve time against object count (log-log) from the JSON lines
     /// of `vref bench solver --json` and of tools/pygmtools_bench.py
     /// --json: one curve per method and tier, one per pygmtools method.
@@ -596,6 +616,33 @@ pub struct BenchClientArgs {
     #[arg(long)]
     pub json: bool,
     /// Configuration file (its [ipc] section says where the matcher is).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchRemoteArgs {
+    /// Objects in the synthetic world.
+    #[arg(long, value_name = "N", default_value_t = 32)]
+    pub objects: usize,
+    /// Ticks per second; each tick sends one remote and one local query,
+    /// in alternating order.
+    #[arg(long, value_name = "HZ", default_value_t = 200.0, value_parser = positive_rate)]
+    pub rate: f64,
+    /// How long to measure once both answer, e.g. 10s.
+    #[arg(long, value_name = "D", default_value = "10s", value_parser = crate::duration::parse_duration)]
+    pub duration: std::time::Duration,
+    /// How remote queries and answers travel: json or binary.
+    #[arg(long, value_name = "E", default_value = "binary")]
+    pub encoding: vref_bridge::Format,
+    /// Print one JSON object: remote_ and local_ p50, p99 and p999 in
+    /// microseconds, added_p50_us and added_p99_us (remote minus local),
+    /// counts.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file ([matcher] method, [feeds] rates and preset);
+    /// the services run under their own iceoryx2 root path and prefix, the
+    /// bridge on a loopback port of its own, whatever it says.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
 }

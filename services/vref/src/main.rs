@@ -9,6 +9,7 @@ mod bench_client;
 mod bench_perception;
 mod bench_plot;
 mod bench_query;
+mod bench_remote;
 mod cli;
 mod config_cmd;
 mod demo;
@@ -54,6 +55,7 @@ fn main() -> ExitCode {
         Command::Soak(args) => soak::run(&args),
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
+        Command::Bench(BenchCommand::Remote(args)) => bench_remote::remote(&args),
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
         Command::Bench(BenchCommand::Perception(args)) => bench_perception::perception(&args),
         Command::Bench(BenchCommand::Client(args)) => bench_client::run(&args),

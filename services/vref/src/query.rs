@@ -1,9 +1,11 @@
 use std::time::{Duration, Instant};
 
 use anyhow::Context;
+use vref_bridge::RemoteClient;
+use vref_bridge::json::AnswerJson;
 use vref_config::Config;
-use vref_wire::ReferenceAnswer;
 use vref_wire::ipc::{IpcError, ReferenceClient};
+use vref_wire::{QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
 
 use crate::cli::QueryArgs;
 use crate::failure::{Blame, Failure};
@@ -12,38 +14,100 @@ use crate::stdout;
 pub fn run(args: &QueryArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
     let timeout = Duration::from_millis(args.timeout_ms);
-    let name = format!("vref-query-{}", std::process::id());
-    let mut client = ReferenceClient::connect(&config.ipc, &name)
-        .context("connecting to the matcher's reference service")
-        .runtime()?;
-    let start = Instant::now();
-    let answer = match (&args.human_object, &args.ray) {
-        (Some(id), _) => client.by_human_object(*id, timeout),
-        (None, Some(r)) => {
-            client.by_ray([r[0], r[1], r[2]], [r[3], r[4], r[5]], args.cone, timeout)
-        }
-        (None, None) => client.latest_gesture(timeout),
-    }
-    .map_err(|e| {
-        // Only when nobody serves is the matcher missing; a timeout with a
-        // server means it is running but did not answer in time.
-        let hint = match e {
-            IpcError::NoServer { .. } => format!(
-                "asking the matcher (is vref-matcher running with the same [ipc] settings: namespace `{}`, prefix `{}`?)",
-                config.ipc.namespace, config.ipc.prefix
-            ),
-            _ => "asking the matcher".to_owned(),
-        };
-        anyhow::Error::from(e).context(hint)
-    })
-    .runtime()?;
-    let rtt = start.elapsed();
+    let query = query_of(args);
+    let (answer, rtt) = match &args.remote {
+        Some(endpoint) => ask_remote(args, &config, endpoint, query, timeout)?,
+        None => ask_local(&config, query, timeout)?,
+    };
     let text = if args.json {
         json(&answer, rtt)
     } else {
         describe(&answer, rtt)
     };
     stdout::print(&format!("{text}\n"))
+}
+
+/// The question the arguments ask (the request id is the client's).
+pub fn query_of(args: &QueryArgs) -> ReferenceQuery {
+    let mut query = ReferenceQuery {
+        request_id: 0,
+        human_object_id: 0,
+        ray_origin: [0.0; 3],
+        ray_direction: [0.0; 3],
+        cone_half_angle: 0.0,
+        kind: QueryKind::LatestGesture as u32,
+        schema_version: SCHEMA_VERSION,
+        reserved: 0,
+    };
+    match (&args.human_object, &args.ray) {
+        (Some(id), _) => {
+            query.kind = QueryKind::HumanObject as u32;
+            query.human_object_id = *id;
+        }
+        (None, Some(r)) => {
+            query.kind = QueryKind::Ray as u32;
+            query.ray_origin = [r[0], r[1], r[2]];
+            query.ray_direction = [r[3], r[4], r[5]];
+            query.cone_half_angle = args.cone;
+        }
+        (None, None) => {}
+    }
+    query
+}
+
+fn ask_local(
+    config: &Config,
+    query: ReferenceQuery,
+    timeout: Duration,
+) -> Result<(ReferenceAnswer, Duration), Failure> {
+    let name = format!("vref-query-{}", std::process::id());
+    let mut client = ReferenceClient::connect(&config.ipc, &name)
+        .context("connecting to the matcher")
+        .runtime()?;
+    let start = Instant::now();
+    let answer = client
+        .ask(query, timeout)
+        .map_err(|e| {
+            // Only when nobody serves is the matcher missing; a timeout with
+            // a server means it is running but did not answer in time.
+            let hint = match e {
+                IpcError::NoServer { .. } => format!(
+                    "asking the matcher (is vref-matcher running with the same [ipc] settings: namespace `{}`, prefix `{}`?)",
+                    config.ipc.namespace, config.ipc.prefix
+                ),
+                _ => "asking the matcher".to_owned(),
+            };
+            anyhow::Error::from(e).context(hint)
+        })
+        .runtime()?;
+    Ok((answer, start.elapsed()))
+}
+
+/// Over Zenoh, through the robot's bridge: `--prefix`, else the
+/// configuration's `[bridge] prefix`, names the robot.
+fn ask_remote(
+    args: &QueryArgs,
+    config: &Config,
+    endpoint: &str,
+    query: ReferenceQuery,
+    timeout: Duration,
+) -> Result<(ReferenceAnswer, Duration), Failure> {
+    let prefix = args.prefix.as_deref().unwrap_or(&config.bridge.prefix);
+    vref_config::check_endpoint(endpoint)
+        .map_err(|e| anyhow::anyhow!("--remote `{endpoint}`: {e}"))
+        .bad_input()?;
+    vref_config::check_prefix(prefix)
+        .map_err(|e| anyhow::anyhow!("--prefix `{prefix}`: {e}"))
+        .bad_input()?;
+    let mut client = RemoteClient::connect(endpoint, prefix, args.encoding)
+        .context("connecting over Zenoh")
+        .runtime()?;
+    let start = Instant::now();
+    let answer = client
+        .ask(query, timeout)
+        .context("asking through the bridge")
+        .runtime()?;
+    Ok((answer, start.elapsed()))
 }
 
 /// One line a person can read.
@@ -81,61 +145,18 @@ pub fn describe(a: &ReferenceAnswer, rtt: Duration) -> String {
     text
 }
 
+/// The answer's JSON fields (those a remote controller gets from the
+/// bridge, vref_bridge::json::AnswerJson) and this client's round trip.
 #[derive(serde::Serialize)]
-struct JsonAnswer {
-    status: &'static str,
-    request_id: u64,
-    human_object_id: u64,
-    robot_track_id: u64,
-    position: [f32; 3],
-    confidence: f32,
-    alternatives: Vec<JsonAlternative>,
-    robot_sequence: u64,
-    human_sequence: u64,
-    robot_age_us: u64,
-    human_age_us: u64,
-    solve_age_us: u64,
-    ray_age_us: u64,
-    /// The answered object in the human view's frame, when known.
-    human_frame_position: Option<[f32; 3]>,
-    /// Whether that position came through the estimated motion.
-    human_position_from_motion: bool,
-    solved: bool,
+struct JsonLine {
+    #[serde(flatten)]
+    answer: AnswerJson,
     rtt_us: u128,
 }
 
-#[derive(serde::Serialize)]
-struct JsonAlternative {
-    robot_track_id: u64,
-    confidence: f32,
-}
-
 pub fn json(a: &ReferenceAnswer, rtt: Duration) -> String {
-    let line = JsonAnswer {
-        status: a.status().name(),
-        request_id: a.request_id,
-        human_object_id: a.human_object_id,
-        robot_track_id: a.robot_track_id,
-        position: a.position,
-        confidence: a.confidence,
-        alternatives: a
-            .alternatives()
-            .iter()
-            .map(|alt| JsonAlternative {
-                robot_track_id: alt.robot_track_id,
-                confidence: alt.confidence,
-            })
-            .collect(),
-        robot_sequence: a.robot_sequence,
-        human_sequence: a.human_sequence,
-        robot_age_us: a.robot_age_us,
-        human_age_us: a.human_age_us,
-        solve_age_us: a.solve_age_us,
-        ray_age_us: a.ray_age_us,
-        human_frame_position: (a.flags & ReferenceAnswer::FLAG_HUMAN_POSITION != 0)
-            .then_some(a.human_frame_position),
-        human_position_from_motion: a.flags & ReferenceAnswer::FLAG_HUMAN_POSITION_FROM_MOTION != 0,
-        solved: a.solved(),
+    let line = JsonLine {
+        answer: AnswerJson::from(a),
         rtt_us: rtt.as_micros(),
     };
     serde_json::to_string(&line).unwrap_or_default()

@@ -1,0 +1,58 @@
+//! `vref-bridge`: joins this robot's iceoryx2 services to a Zenoh network.
+//! Headset snapshots and rays come in and are published locally as a
+//! gesture feed would; remote reference queries are asked of the local
+//! matcher; the robot's snapshots, the matcher's statistics and decision
+//! go out. Everything from the network is checked as strictly as shared
+//! memory is (vref-bridge's intake) and counted when refused.
+//!
+//! Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running,
+//! 2 bad configuration.
+
+mod headset;
+mod queries;
+mod service;
+mod state;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Parser;
+
+/// The vref bridge: the headset, remote controllers and monitors reach
+/// this robot's matcher over Zenoh, under the `[bridge] prefix` keys
+/// (docs/remote.md). Logs go to stderr (RUST_LOG, default info).
+#[derive(Debug, Parser)]
+#[command(name = "vref-bridge", version)]
+struct Args {
+    /// Configuration file (default: $VREF_CONFIG, else config/vref.toml
+    /// if present, else built-in defaults); its [bridge] and [ipc]
+    /// sections say what to join.
+    #[arg(long, value_name = "FILE")]
+    config: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    vref_logging::init("info");
+    let config = match vref_config::Config::load(args.config.as_deref()) {
+        Ok((config, source)) => {
+            tracing::info!(?source, "configuration");
+            config
+        }
+        Err(e) => {
+            tracing::error!("{:#}", anyhow::Error::from(e));
+            return ExitCode::from(2);
+        }
+    };
+    match service::run(&config) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(service::Failure::Config(e)) => {
+            tracing::error!("[bridge]: {e:#}");
+            ExitCode::from(2)
+        }
+        Err(service::Failure::Run(e)) => {
+            tracing::error!("{e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

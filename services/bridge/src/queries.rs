@@ -1,0 +1,101 @@
+//! Queries in: a Zenoh queryable at `<prefix>/reference`. One thread owns
+//! the iceoryx2 client and asks the local matcher for each query that
+//! passes the intake, then replies in the query's own encoding; a refused
+//! query, or one the matcher did not answer, gets an error reply saying
+//! why.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, anyhow};
+use vref_bridge::{ErrorReply, Format, Message, binary, json};
+use vref_wire::ipc::ReferenceClient;
+use zenoh::Wait;
+use zenoh::query::Query;
+
+use crate::service::{POLL, Shared, Worker, lock};
+
+/// The counter of queries that passed the checks but got no answer from
+/// the matcher (not running, or too slow).
+const NO_ANSWER: &str = "no_answer";
+
+pub fn start(session: &zenoh::Session, shared: &Arc<Shared>) -> anyhow::Result<Worker> {
+    let key = shared.keys.reference();
+    let queryable = session
+        .declare_queryable(&key)
+        .complete(true)
+        .wait()
+        .map_err(|e| anyhow!("declaring the queryable {key}: {e}"))?;
+    let shared = Arc::clone(shared);
+    std::thread::Builder::new()
+        .name("queries-in".to_owned())
+        .spawn(move || {
+            let name = format!("vref-bridge-queries-{}", std::process::id());
+            let mut client = ReferenceClient::connect(&shared.config.ipc, &name)?;
+            let timeout = Duration::from_millis(shared.config.bridge.query_timeout_ms);
+            while !shared.stopping() {
+                match queryable.recv_timeout(POLL) {
+                    Ok(Some(query)) => answer(&shared, &mut client, &query, timeout),
+                    Ok(None) => {}
+                    Err(e) => return Err(anyhow!("receiving queries: {e}")),
+                }
+            }
+            Ok(())
+        })
+        .context("starting the query thread")
+}
+
+fn answer(shared: &Shared, client: &mut ReferenceClient, query: &Query, timeout: Duration) {
+    let encoding = query.encoding().map(ToString::to_string);
+    let payload = query.payload().map(|p| p.to_bytes());
+    let checked =
+        lock(&shared.queries).query(encoding.as_deref(), payload.as_deref(), Instant::now());
+    let (remote, format) = match checked {
+        Ok(checked) => checked,
+        Err(refusal) => {
+            tracing::debug!(reason = refusal.name(), "refused query: {refusal}");
+            return refuse(query, &refusal.to_string(), refusal.name());
+        }
+    };
+    let mut answer = match client.ask(remote, timeout) {
+        Ok(answer) => answer,
+        Err(e) => {
+            lock(&shared.queries).counters_mut().refuse(NO_ANSWER);
+            tracing::warn!("asking the matcher: {e}");
+            return refuse(
+                query,
+                &format!("the matcher did not answer: {e}"),
+                NO_ANSWER,
+            );
+        }
+    };
+    // The client numbered its own request; the remote one is echoed.
+    answer.request_id = remote.request_id;
+    let bytes = match format {
+        Format::Json => json::encode_answer(&answer),
+        Format::Binary => binary::encode_answer(&answer),
+    };
+    let sent = query
+        .reply(shared.keys.reference(), bytes)
+        .encoding(Message::Answer.encoding(format))
+        .express(true)
+        .wait();
+    if let Err(e) = sent {
+        lock(&shared.published).failed += 1;
+        tracing::warn!("replying to a query: {e}");
+    }
+}
+
+fn refuse(query: &Query, error: &str, reason: &str) {
+    let reply = ErrorReply {
+        error: error.to_owned(),
+        reason: reason.to_owned(),
+    };
+    if let Err(e) = query
+        .reply_err(reply.to_json())
+        .encoding(ErrorReply::ENCODING)
+        .wait()
+    {
+        tracing::warn!("replying to a query: {e}");
+    }
+}
