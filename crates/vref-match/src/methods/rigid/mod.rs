@@ -7,6 +7,7 @@
 //! probability that the row's answer (a partner, or none) is right.
 
 mod costs;
+mod noise;
 mod params;
 mod search;
 mod side;
@@ -16,7 +17,7 @@ use crate::{Params, Problem, Solution, hungarian_max};
 
 use costs::Costs;
 pub use params::RigidParams;
-use search::search;
+use search::{explained, rescore, search};
 
 /// Score of a column a row must never take in the padded assignment.
 const FORBIDDEN: f64 = -1e12;
@@ -25,9 +26,30 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     let rp = &params.rigid;
     let (n, m) = (problem.n, problem.m);
     let spacing = median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
-    let log_g = appearance_log_likelihood(problem, rp.appearance_temperature);
-    let costs = Costs::new(problem, &log_g, spacing, rp);
-    let found = search(&costs, costs.typical, rp);
+    let log_g = appearance_log_likelihood(problem, rp.appearance_temperature, rp.appearance_floor);
+    let mut costs = Costs::new(problem, &log_g, spacing, rp);
+    let mut found = search(&costs, costs.typical, rp);
+    // The noise this scene shows under its best motion replaces the
+    // assumed one, and the kept motions are judged again under it; again,
+    // since pairs the assumed scales cut off count once the scales widen.
+    if rp.noise_prior > 0.0
+        && let Some(prior) = costs.rays.as_ref().map(|r| r.noise)
+    {
+        for _ in 0..rp.noise_rounds {
+            let Some(f) = &found else { break };
+            let pairs = explained(&costs, rp, &f.motion);
+            let Some(noise) = noise::estimate(&costs, &f.motion, &pairs, prior, rp.noise_prior)
+            else {
+                break;
+            };
+            let adapted = costs.with_noise(noise);
+            let Some(again) = rescore(&adapted, rp, &f.kept) else {
+                break;
+            };
+            costs = adapted;
+            found = Some(again);
+        }
+    }
     let mut motion = found.as_ref().map(|f| f.motion);
     let mut cost = costs.matrix(motion.as_ref());
     let mut assignment = assign(&cost, n, m, rp.unmatched_cost);
@@ -125,12 +147,15 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
 
 /// `(a - max of the row) / temperature`: the log of an appearance
 /// likelihood relative to the row's best; all 0 without features.
-fn appearance_log_likelihood(problem: &Problem, temperature: f64) -> Vec<f64> {
+fn appearance_log_likelihood(problem: &Problem, temperature: f64, floor: f64) -> Vec<f64> {
     let m = problem.m;
     let mut out = Vec::with_capacity(problem.len());
     for row in problem.appearance.chunks(m) {
         let best = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        out.extend(row.iter().map(|&a| (a - best) / temperature));
+        out.extend(
+            row.iter()
+                .map(|&a| ((1.0 - floor) * ((a - best) / temperature).exp() + floor).ln()),
+        );
     }
     out
 }

@@ -131,13 +131,64 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
         }
     }
     let refined = optimise_locally(costs, rp, top, &mut scratch);
+    found(costs, rp, refined, same, &mut scratch)
+}
+
+/// The search's kept motions judged again under `costs` (the same scene
+/// with other noise scales): each re-fitted to what it explains there, the
+/// best chosen, its rivals weighed.
+pub(super) fn rescore(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    motions: &[RigidMotion],
+) -> Option<Found> {
+    let mut scratch = Scratch::default();
+    let top = motions
+        .iter()
+        .filter_map(|m| {
+            greedy(costs, m, rp.unmatched_cost, f64::NEG_INFINITY, &mut scratch)
+                .map(|(score, _)| (score, *m))
+        })
+        .collect();
+    let refined = optimise_locally(costs, rp, top, &mut scratch);
+    let probes = probe_points(&costs.problem.human_positions);
+    let tolerance = 2.0 * costs.typical;
+    let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, tolerance);
+    found(costs, rp, refined, same, &mut scratch)
+}
+
+fn found(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    refined: Vec<(f64, RigidMotion)>,
+    same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
+    scratch: &mut Scratch,
+) -> Option<Found> {
     let &(score, motion) = refined.first()?;
-    let alternatives = rivals(costs, rp, &motion, &refined, same, &mut scratch);
+    let alternatives = rivals(costs, rp, &motion, &refined, same, scratch);
     Some(Found {
         motion,
         score,
         alternatives,
+        kept: refined.into_iter().map(|(_, m)| m).collect(),
     })
+}
+
+/// The pairs `motion` explains, by the search's greedy assignment.
+pub(super) fn explained(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    motion: &RigidMotion,
+) -> Vec<(usize, usize)> {
+    greedy(
+        costs,
+        motion,
+        rp.unmatched_cost,
+        f64::NEG_INFINITY,
+        &mut Scratch::default(),
+    )
+    .map(|(_, p)| p)
+    .unwrap_or_default()
 }
 
 /// One sample of three candidate pairs, by guided sampling: the second and
@@ -255,6 +306,8 @@ pub(super) struct Found {
     pub(super) motion: RigidMotion,
     pub(super) score: f64,
     pub(super) alternatives: Vec<(f64, RigidMotion)>,
+    /// Every motion the search kept, best first.
+    pub(super) kept: Vec<RigidMotion>,
 }
 
 /// Inserts `(score, motion)` into `top`, which holds the `k` best
