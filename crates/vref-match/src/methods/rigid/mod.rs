@@ -6,6 +6,7 @@
 //! one camera alone sees stay unmatched. Its confidence is a calibrated
 //! probability that the row's answer (a partner, or none) is right.
 
+mod coincidence;
 mod costs;
 mod noise;
 mod params;
@@ -17,7 +18,7 @@ use crate::{Params, Problem, Solution, hungarian_max};
 
 use costs::Costs;
 pub use params::RigidParams;
-use search::{explained, rescore, search};
+use search::{chance_inliers, explained, rescore, score_of, search};
 
 /// Score of a column a row must never take in the padded assignment.
 const FORBIDDEN: f64 = -1e12;
@@ -43,7 +44,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
                 break;
             };
             let adapted = costs.with_noise(noise);
-            let Some(again) = rescore(&adapted, rp, &f.kept) else {
+            let Some(again) = rescore(&adapted, rp, &f.kept, f.tests) else {
                 break;
             };
             costs = adapted;
@@ -73,6 +74,21 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         }
     }
     let (soft, unmatched) = row_shares(&cost, n, m, rp.unmatched_cost);
+    // How likely the motion is real rather than a coincidence of a few
+    // pairs: partners are only as sure as that, "no partner" surer.
+    let real = match &found {
+        Some(f) if rp.chance_samples > 0 => {
+            let best = motion.as_ref().unwrap_or(&f.motion);
+            let chance = chance_inliers(&costs, rp, rp.chance_samples, best);
+            let score = score_of(&costs, rp, best);
+            coincidence::real(
+                coincidence::margin(&chance, score, f.tests),
+                rp.chance_slope,
+                rp.chance_margin,
+            )
+        }
+        _ => 1.0,
+    };
 
     // The rival motions: each is weighed against the best by its score,
     // and a row's answer is only as sure as the motions that give it.
@@ -105,8 +121,8 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         let motion_share = 1.0 - against / total;
         let mut raw = motion_share
             * match assignment[i] {
-                Some(j) => soft[i * m + j],
-                None => unmatched[i],
+                Some(j) => real * soft[i * m + j],
+                None => 1.0 - real * (1.0 - unmatched[i]),
             };
         // Abstaining: a partner the runner-up motion disputes and that is
         // this unsure is not given (precision); the object is answered "no
@@ -121,7 +137,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
                 withdrawn = Some((raw, i, j));
             }
             assignment[i] = None;
-            raw = unmatched[i];
+            raw = 1.0 - real * (1.0 - unmatched[i]);
         }
         confidence.push(raw);
     }

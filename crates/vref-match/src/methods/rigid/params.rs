@@ -100,6 +100,16 @@ pub struct RigidParams {
     /// Refuse motions that put the two cameras on opposite sides of the
     /// plane the objects stand on (see `Side`).
     pub same_side: bool,
+    /// Hypotheses drawn to measure how many pairs a motion explains by
+    /// chance in the scene; a partner is only as sure as the best motion is
+    /// unlike chance (0: not measured, every motion taken as real).
+    pub chance_samples: usize,
+    /// The best motion is real with probability `sigmoid(chance_slope x
+    /// (margin - chance_margin))`, where the margin is how many deviations
+    /// of the chance scores its score stands above the best that chance
+    /// alone reaches among the hypotheses tried.
+    pub chance_slope: f64,
+    pub chance_margin: f64,
     /// Seed of the hypothesis sampler (answers are deterministic).
     pub seed: u64,
     /// Raw row share and fit quality to probability.
@@ -132,6 +142,9 @@ impl Default for RigidParams {
             abstain_motion: 0.95,
             never_empty: true,
             same_side: true,
+            chance_samples: 0,
+            chance_slope: 2.0,
+            chance_margin: 0.0,
             seed: 0x5eed,
             calibration: Calibration::default(),
         }
@@ -147,6 +160,7 @@ impl RigidParams {
             ("rigid.decisive_share", self.decisive_share),
             ("rigid.motion_temperature", self.motion_temperature),
             ("rigid.lateral_factor", self.lateral_factor),
+            ("rigid.chance_slope", self.chance_slope),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(MatchError::BadParameter {
@@ -180,6 +194,13 @@ impl RigidParams {
                 name: "rigid.appearance_floor",
                 value: self.appearance_floor,
                 expected: "in [0, 1)",
+            });
+        }
+        if !self.chance_margin.is_finite() {
+            return Err(MatchError::BadParameter {
+                name: "rigid.chance_margin",
+                value: self.chance_margin,
+                expected: "finite",
             });
         }
         if !(self.noise_prior.is_finite() && self.noise_prior >= 0.0) {

@@ -57,6 +57,8 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
     // without them to fill the kept few.
     let keep = rp.local_optimisations.max(1);
     let mut settled = false;
+    // Hypotheses scored in the rounds kept: the tests a coincidence had.
+    let mut tests = 0;
     // Rounds of (distance tolerance, shortest edge, shortcut). Under the
     // depth-error model the tolerance must admit errors along the rays that
     // are large against the spacing, which leaves guided sampling little to
@@ -128,19 +130,94 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
         }
         if shortcut && !settled {
             top.clear();
+        } else {
+            tests += scored;
         }
     }
     let refined = optimise_locally(costs, rp, top, &mut scratch);
-    found(costs, rp, refined, same, &mut scratch)
+    found(costs, rp, refined, same, &mut scratch, tests)
+}
+
+/// What a motion drawn by the sampler scores by chance in this scene: the
+/// scores of up to `samples` drawn hypotheses after the same local
+/// optimisation the best motion had. Hypotheses that are the best motion
+/// again are left out: in a scene with a right motion they are not
+/// chance, and in one without they are few. Most drawn hypotheses are
+/// wrong, so the scores sample the null the best motion is tested against.
+pub(super) fn chance_inliers(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    samples: usize,
+    best: &RigidMotion,
+) -> Vec<f64> {
+    let problem = costs.problem;
+    let (n, m) = (problem.n, problem.m);
+    if n < 3 || m < 3 {
+        return Vec::new();
+    }
+    let hp = &problem.human_positions;
+    let rpos = &problem.robot_positions;
+    let human_order = position_order(hp);
+    let robot_rank = ranks(&position_order(rpos));
+    let mut candidates = candidate_columns(costs.log_g, n, m, rp.candidates);
+    for row in &mut candidates {
+        row.sort_by_key(|&col| robot_rank[col]);
+    }
+    let tolerance = 3.0 * costs.typical;
+    let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
+        let dh = (hp[i] - hp[j]).norm();
+        let dr = (rpos[a] - rpos[b]).norm();
+        i != j && a != b && (dh - dr).abs() <= tolerance
+    };
+    let probes = probe_points(hp);
+    let mut rng = SplitMix(rp.seed.rotate_left(17) ^ ((n as u64) << 32) ^ m as u64);
+    let mut consistent = Vec::with_capacity(m);
+    let mut scratch = Scratch::default();
+    let mut counts = Vec::with_capacity(samples);
+    let mut drawn = 0;
+    for _ in 0..samples.saturating_mul(ATTEMPTS_PER_HYPOTHESIS) {
+        if drawn >= samples {
+            break;
+        }
+        let Some(s) = draw_sample(&mut rng, &human_order, &candidates, &fits, &mut consistent)
+        else {
+            continue;
+        };
+        let from = s.map(|(i, _)| hp[i]);
+        let to = s.map(|(_, j)| rpos[j]);
+        let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
+            continue;
+        };
+        drawn += 1;
+        let Some((score, _)) = greedy(
+            costs,
+            &motion,
+            rp.unmatched_cost,
+            f64::NEG_INFINITY,
+            &mut scratch,
+        ) else {
+            continue;
+        };
+        let refined = optimise_locally(costs, rp, vec![(score, motion)], &mut scratch);
+        let Some(&(_, motion)) = refined.first() else {
+            continue;
+        };
+        if same_motion(&motion, best, &probes, 2.0 * costs.typical) {
+            continue;
+        }
+        counts.push(score_of(costs, rp, &motion));
+    }
+    counts
 }
 
 /// The search's kept motions judged again under `costs` (the same scene
 /// with other noise scales): each re-fitted to what it explains there, the
-/// best chosen, its rivals weighed.
+/// best chosen, its rivals weighed. `tests` is the search's count.
 pub(super) fn rescore(
     costs: &Costs<'_>,
     rp: &RigidParams,
     motions: &[RigidMotion],
+    tests: usize,
 ) -> Option<Found> {
     let mut scratch = Scratch::default();
     let top = motions
@@ -154,7 +231,7 @@ pub(super) fn rescore(
     let probes = probe_points(&costs.problem.human_positions);
     let tolerance = 2.0 * costs.typical;
     let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, tolerance);
-    found(costs, rp, refined, same, &mut scratch)
+    found(costs, rp, refined, same, &mut scratch, tests)
 }
 
 fn found(
@@ -163,6 +240,7 @@ fn found(
     refined: Vec<(f64, RigidMotion)>,
     same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
     scratch: &mut Scratch,
+    tests: usize,
 ) -> Option<Found> {
     let &(score, motion) = refined.first()?;
     let alternatives = rivals(costs, rp, &motion, &refined, same, scratch);
@@ -171,7 +249,20 @@ fn found(
         score,
         alternatives,
         kept: refined.into_iter().map(|(_, m)| m).collect(),
+        tests,
     })
+}
+
+/// The search's score of `motion` (its greedy gain over "no partner").
+pub(super) fn score_of(costs: &Costs<'_>, rp: &RigidParams, motion: &RigidMotion) -> f64 {
+    greedy(
+        costs,
+        motion,
+        rp.unmatched_cost,
+        f64::NEG_INFINITY,
+        &mut Scratch::default(),
+    )
+    .map_or(0.0, |(s, _)| s)
 }
 
 /// The pairs `motion` explains, by the search's greedy assignment.
@@ -308,6 +399,9 @@ pub(super) struct Found {
     pub(super) alternatives: Vec<(f64, RigidMotion)>,
     /// Every motion the search kept, best first.
     pub(super) kept: Vec<RigidMotion>,
+    /// Hypotheses the search scored (the shortcut round's only when it
+    /// settled the scene).
+    pub(super) tests: usize,
 }
 
 /// Inserts `(score, motion)` into `top`, which holds the `k` best
