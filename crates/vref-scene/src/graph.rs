@@ -17,7 +17,7 @@ pub struct SceneObject {
     pub feature: Vec<f32>,
     /// Standard deviation of the position error along each axis of the
     /// camera frame, as the sensor states it; all zero when not stated
-    /// (dataset files do not carry it).
+    /// (a dataset file carries it only where its line states it).
     pub position_sigma: [f64; 3],
 }
 

@@ -139,6 +139,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         iterations,
         converged,
         motion: None,
+        margin: None,
     }
 }
 

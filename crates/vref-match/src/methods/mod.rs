@@ -136,6 +136,7 @@ pub fn solve_with(
         iterations: soft.iterations,
         converged: soft.converged,
         motion: None,
+        margin: None,
     })
 }
 

@@ -37,6 +37,14 @@ pub(super) struct ObjectRecord {
     pub position: [f64; 3],
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub feature: Vec<f32>,
+    /// The sensor's stated position error per axis; absent when not
+    /// stated (all zero).
+    #[serde(default, skip_serializing_if = "all_zero")]
+    pub position_sigma: [f64; 3],
+}
+
+fn all_zero(sigma: &[f64; 3]) -> bool {
+    sigma.iter().all(|&s| s == 0.0)
 }
 
 /// A value that may only be read from a JSON object. Derived `Deserialize`
@@ -111,6 +119,7 @@ impl GraphRecord {
                     id: o.id,
                     position: o.position.coords.into(),
                     feature: o.feature.clone(),
+                    position_sigma: o.position_sigma,
                 })
                 .collect(),
             edges: graph.edge_ids(),
@@ -121,7 +130,7 @@ impl GraphRecord {
         let objects = self
             .objects
             .into_iter()
-            .map(|o| SceneObject::new(o.id, o.position, o.feature))
+            .map(|o| SceneObject::new(o.id, o.position, o.feature).with_sigma(o.position_sigma))
             .collect();
         SceneGraph::new(objects, self.edges, limits)
     }

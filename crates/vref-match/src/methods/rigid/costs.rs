@@ -49,6 +49,8 @@ pub(super) struct Rays {
     /// Heavy tails: a squared residual `d^2` costs `tail / 2 ln(1 + d^2 /
     /// tail)` instead of `d^2 / 2` (0: the Gaussian's).
     pub(super) tail: f64,
+    /// Half squared lengths whose tailed cost reaches "no partner".
+    gate: f64,
     /// Whether the depth variances are `depth_error`'s assumption rather
     /// than the sensors' statement.
     pub(super) assumed: bool,
@@ -107,6 +109,11 @@ impl Rays {
             robot_var: Vec::new(),
             lateral: lateral_sigma * lateral_sigma,
             tail: rp.tail,
+            gate: if rp.tail > 0.0 {
+                0.5 * rp.tail * (2.0 * rp.unmatched_cost / rp.tail).exp_m1()
+            } else {
+                f64::INFINITY
+            },
             noise: Noise {
                 lateral: 0.0,
                 robot: 0.0,
@@ -176,7 +183,10 @@ impl Rays {
             out[k] = half_mahalanobis2(r, w, alpha, [ux[k], uy[k], uz[k]], var[k], inv);
         }
         if self.tail > 0.0 {
-            for o in out.iter_mut() {
+            // Beyond `gate` a pair costs more than "no partner" with or
+            // without the tail; the search only asks which pairs are below
+            // it, so the logarithm is spent on those alone.
+            for o in out.iter_mut().filter(|o| **o < self.gate) {
                 *o = self.robust(*o);
             }
         }
@@ -405,6 +415,7 @@ mod tests {
                 },
                 assumed: true,
                 tail: 0.0,
+                gate: f64::INFINITY,
             };
             let covariance =
                 Matrix3::identity() * lateral + w * w.transpose() * h + u * u.transpose() * c;
@@ -437,6 +448,7 @@ mod tests {
             },
             assumed: true,
             tail: 0.0,
+            gate: f64::INFINITY,
         };
         let (w, alpha) = rays.human_ray(0, &Matrix3::identity());
         let along = rays.half_distance2([0.0, 0.0, 2.0], w, alpha, 0);

@@ -44,11 +44,12 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
                 break;
             };
             let adapted = costs.with_noise(noise);
+            let settled = f.settled;
             let Some(again) = rescore(&adapted, rp, &f.kept, f.tests) else {
                 break;
             };
             costs = adapted;
-            found = Some(again);
+            found = Some(search::Found { settled, ..again });
         }
     }
     let mut motion = found.as_ref().map(|f| f.motion);
@@ -74,21 +75,22 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         }
     }
     let (soft, unmatched) = row_shares(&cost, n, m, rp.unmatched_cost);
-    // How likely the motion is real rather than a coincidence of a few
-    // pairs: partners are only as sure as that, "no partner" surer.
-    let real = match &found {
-        Some(f) if rp.chance_samples > 0 => {
+    // How far the motion stands above what chance explains in a view of
+    // this scene that no motion explains: the calibration weighs it.
+    let margin = match &found {
+        Some(f) if rp.chance_samples > 0 && !f.settled => {
             let best = motion.as_ref().unwrap_or(&f.motion);
-            let chance = chance_inliers(&costs, rp, rp.chance_samples, best);
-            let score = score_of(&costs, rp, best);
-            coincidence::real(
-                coincidence::margin(&chance, score, f.tests),
-                rp.chance_slope,
-                rp.chance_margin,
-            )
+            let null = coincidence::null_view(problem, rp.seed);
+            let mut null_costs = Costs::new(&null, &log_g, spacing, rp);
+            if let Some(noise) = costs.rays.as_ref().map(|r| r.noise) {
+                null_costs = null_costs.with_noise(noise);
+            }
+            let chance = chance_inliers(&null_costs, rp, rp.chance_samples, None);
+            coincidence::margin(&chance, score_of(&costs, rp, best), f.tests)
         }
-        _ => 1.0,
-    };
+        _ => None,
+    }
+    .unwrap_or(f64::INFINITY);
 
     // The rival motions: each is weighed against the best by its score,
     // and a row's answer is only as sure as the motions that give it.
@@ -121,8 +123,8 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         let motion_share = 1.0 - against / total;
         let mut raw = motion_share
             * match assignment[i] {
-                Some(j) => real * soft[i * m + j],
-                None => 1.0 - real * (1.0 - unmatched[i]),
+                Some(j) => soft[i * m + j],
+                None => unmatched[i],
             };
         // Abstaining: a partner the runner-up motion disputes and that is
         // this unsure is not given (precision); the object is answered "no
@@ -137,7 +139,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
                 withdrawn = Some((raw, i, j));
             }
             assignment[i] = None;
-            raw = 1.0 - real * (1.0 - unmatched[i]);
+            raw = unmatched[i];
         }
         confidence.push(raw);
     }
@@ -149,7 +151,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         confidence[i] = raw;
     }
     for (c, a) in confidence.iter_mut().zip(&assignment) {
-        *c = rp.calibration.probability(*c, a.is_none());
+        *c = rp.calibration.probability(*c, a.is_none(), margin);
     }
     Solution {
         soft,
@@ -158,6 +160,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         iterations,
         converged,
         motion,
+        margin: margin.is_finite().then_some(margin),
     }
 }
 

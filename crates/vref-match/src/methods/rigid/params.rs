@@ -104,12 +104,7 @@ pub struct RigidParams {
     /// chance in the scene; a partner is only as sure as the best motion is
     /// unlike chance (0: not measured, every motion taken as real).
     pub chance_samples: usize,
-    /// The best motion is real with probability `sigmoid(chance_slope x
-    /// (margin - chance_margin))`, where the margin is how many deviations
-    /// of the chance scores its score stands above the best that chance
-    /// alone reaches among the hypotheses tried.
-    pub chance_slope: f64,
-    pub chance_margin: f64,
+
     /// Seed of the hypothesis sampler (answers are deterministic).
     pub seed: u64,
     /// Raw row share and fit quality to probability.
@@ -120,16 +115,16 @@ impl Default for RigidParams {
     fn default() -> Self {
         Self {
             appearance_temperature: 0.1,
-            appearance_floor: 0.0,
+            appearance_floor: 0.1,
             candidates: 6,
             hypotheses: 200,
             sigma_factor: 0.4,
             stated_errors: true,
             depth_error: 0.065,
             lateral_factor: 0.2,
-            noise_prior: 0.0,
-            tail: 0.0,
-            noise_rounds: 3,
+            noise_prior: 3.0,
+            tail: 6.0,
+            noise_rounds: 1,
             unmatched_cost: 4.5,
             decisive_share: 0.8,
             decisive_after: 100,
@@ -142,9 +137,8 @@ impl Default for RigidParams {
             abstain_motion: 0.95,
             never_empty: true,
             same_side: true,
-            chance_samples: 0,
-            chance_slope: 2.0,
-            chance_margin: 0.0,
+            chance_samples: 32,
+
             seed: 0x5eed,
             calibration: Calibration::default(),
         }
@@ -160,7 +154,6 @@ impl RigidParams {
             ("rigid.decisive_share", self.decisive_share),
             ("rigid.motion_temperature", self.motion_temperature),
             ("rigid.lateral_factor", self.lateral_factor),
-            ("rigid.chance_slope", self.chance_slope),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(MatchError::BadParameter {
@@ -196,13 +189,6 @@ impl RigidParams {
                 expected: "in [0, 1)",
             });
         }
-        if !self.chance_margin.is_finite() {
-            return Err(MatchError::BadParameter {
-                name: "rigid.chance_margin",
-                value: self.chance_margin,
-                expected: "finite",
-            });
-        }
         if !(self.noise_prior.is_finite() && self.noise_prior >= 0.0) {
             return Err(MatchError::BadParameter {
                 name: "rigid.noise_prior",
@@ -232,9 +218,15 @@ impl RigidParams {
             });
         }
         let c = &self.calibration;
-        if ![c.bias, c.slope, c.no_partner_shift]
-            .iter()
-            .all(|v| v.is_finite())
+        if ![
+            c.bias,
+            c.slope,
+            c.no_partner_shift,
+            c.partner_margin,
+            c.none_margin,
+        ]
+        .iter()
+        .all(|v| v.is_finite())
         {
             return Err(MatchError::BadParameter {
                 name: "rigid.calibration",

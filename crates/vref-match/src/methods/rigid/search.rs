@@ -34,7 +34,7 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
     // same hypotheses and gives the same answer.
     let human_order = position_order(hp);
     let robot_rank = ranks(&position_order(rpos));
-    let mut candidates = candidate_columns(costs.log_g, n, m, rp.candidates);
+    let mut candidates = candidate_columns(costs.log_g, n, m, rp);
     for row in &mut candidates {
         row.sort_by_key(|&col| robot_rank[col]);
     }
@@ -135,7 +135,7 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
         }
     }
     let refined = optimise_locally(costs, rp, top, &mut scratch);
-    found(costs, rp, refined, same, &mut scratch, tests)
+    found(costs, rp, refined, same, &mut scratch, tests).map(|f| Found { settled, ..f })
 }
 
 /// What a motion drawn by the sampler scores by chance in this scene: the
@@ -148,7 +148,7 @@ pub(super) fn chance_inliers(
     costs: &Costs<'_>,
     rp: &RigidParams,
     samples: usize,
-    best: &RigidMotion,
+    best: Option<&RigidMotion>,
 ) -> Vec<f64> {
     let problem = costs.problem;
     let (n, m) = (problem.n, problem.m);
@@ -159,7 +159,7 @@ pub(super) fn chance_inliers(
     let rpos = &problem.robot_positions;
     let human_order = position_order(hp);
     let robot_rank = ranks(&position_order(rpos));
-    let mut candidates = candidate_columns(costs.log_g, n, m, rp.candidates);
+    let mut candidates = candidate_columns(costs.log_g, n, m, rp);
     for row in &mut candidates {
         row.sort_by_key(|&col| robot_rank[col]);
     }
@@ -170,6 +170,7 @@ pub(super) fn chance_inliers(
         i != j && a != b && (dh - dr).abs() <= tolerance
     };
     let probes = probe_points(hp);
+    let side = Side::of(rpos);
     let mut rng = SplitMix(rp.seed.rotate_left(17) ^ ((n as u64) << 32) ^ m as u64);
     let mut consistent = Vec::with_capacity(m);
     let mut scratch = Scratch::default();
@@ -188,6 +189,9 @@ pub(super) fn chance_inliers(
         let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
             continue;
         };
+        if rp.same_side && !side.allows(&motion) {
+            continue;
+        }
         drawn += 1;
         let Some((score, _)) = greedy(
             costs,
@@ -202,7 +206,7 @@ pub(super) fn chance_inliers(
         let Some(&(_, motion)) = refined.first() else {
             continue;
         };
-        if same_motion(&motion, best, &probes, 2.0 * costs.typical) {
+        if best.is_some_and(|b| same_motion(&motion, b, &probes, 2.0 * costs.typical)) {
             continue;
         }
         counts.push(score_of(costs, rp, &motion));
@@ -250,6 +254,7 @@ fn found(
         alternatives,
         kept: refined.into_iter().map(|(_, m)| m).collect(),
         tests,
+        settled: false,
     })
 }
 
@@ -402,6 +407,10 @@ pub(super) struct Found {
     /// Hypotheses the search scored (the shortcut round's only when it
     /// settled the scene).
     pub(super) tests: usize,
+    /// Whether a decisive motion ended the search (explaining nearly every
+    /// object nearly perfectly after enough hypotheses for the scene's
+    /// size): chance does not reach that, and is not measured.
+    pub(super) settled: bool,
 }
 
 /// Inserts `(score, motion)` into `top`, which holds the `k` best
@@ -527,7 +536,12 @@ fn fit_pairs(problem: &Problem, pairs: &[(usize, usize)]) -> Option<RigidMotion>
 /// with, most similar first: its `k` most similar, and every other whose
 /// appearance likelihood is within [`CANDIDATE_LOG_GAP`] of the best (all
 /// of them when appearance tells nothing, as without features).
-fn candidate_columns(log_g: &[f64], n: usize, m: usize, k: usize) -> Vec<Vec<usize>> {
+fn candidate_columns(log_g: &[f64], n: usize, m: usize, rp: &RigidParams) -> Vec<Vec<usize>> {
+    let k = rp.candidates;
+    // The gap is of the likelihood before its floor (the floor keeps a
+    // pair's cost bounded; it must not make every object a candidate).
+    let floor = rp.appearance_floor;
+    let gap = ((1.0 - floor) * (-CANDIDATE_LOG_GAP).exp() + floor).ln();
     (0..n)
         .map(|i| {
             let row = &log_g[i * m..(i + 1) * m];
@@ -536,7 +550,7 @@ fn candidate_columns(log_g: &[f64], n: usize, m: usize, k: usize) -> Vec<Vec<usi
             let keep = order
                 .iter()
                 .enumerate()
-                .take_while(|&(rank, &j)| rank < k || row[j] >= -CANDIDATE_LOG_GAP)
+                .take_while(|&(rank, &j)| rank < k || row[j] >= gap)
                 .count();
             order.truncate(keep.max(1));
             order
@@ -600,7 +614,7 @@ impl SplitMix {
         z ^ (z >> 31)
     }
 
-    fn below(&mut self, bound: usize) -> usize {
+    pub(super) fn below(&mut self, bound: usize) -> usize {
         (self.next() % bound.max(1) as u64) as usize
     }
 }
