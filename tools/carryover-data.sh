@@ -41,5 +41,5 @@ for family in table floor; do
   [ -s "$dir/bop-$family-train.jsonl" ] && train+=("$dir/bop-$family-train.jsonl")
   [ -s "$dir/bop-$family-report.jsonl" ] && report+=("$dir/bop-$family-report.jsonl")
 done
-target/release/examples/unrelated "$dir/null-train" "${train[@]}"
-target/release/examples/unrelated "$dir/null-report" "${report[@]}"
+target/release/examples/unrelated 11 "$dir/null-train" "${train[@]}"
+target/release/examples/unrelated 12 "$dir/null-report" "${report[@]}"

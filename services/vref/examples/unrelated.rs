@@ -2,9 +2,10 @@
 //! matcher gives is wrong): each input file's scenes paired across scenes
 //! (`NAME-across.jsonl`) and with the human positions shuffled per axis
 //! (`NAME-shuffled.jsonl`), and random clouds of 8 to 256 objects
-//! (`clouds-N.jsonl`, 20 pairs each). See `vref_sim::unrelated`.
+//! (`clouds-N.jsonl`, 20 pairs each, drawn with `SEED`). See
+//! `vref_sim::unrelated`.
 //!
-//! `cargo run --release -p vref --example unrelated -- OUT_DIR FILE.jsonl...`
+//! `cargo run --release -p vref --example unrelated -- SEED OUT_DIR FILE.jsonl...`
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -26,9 +27,10 @@ fn write(path: &Path, pairs: &[ScenePair]) -> anyhow::Result<()> {
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let (out, files) = args
-        .split_first()
-        .context("usage: unrelated OUT_DIR FILE.jsonl...")?;
+    let usage = "usage: unrelated SEED OUT_DIR FILE.jsonl...";
+    let (seed, rest) = args.split_first().context(usage)?;
+    let seed: u64 = seed.parse().context(usage)?;
+    let (out, files) = rest.split_first().context(usage)?;
     let out = Path::new(out);
     std::fs::create_dir_all(out)?;
     for file in files {
@@ -47,7 +49,7 @@ fn main() -> anyhow::Result<()> {
         )?;
     }
     for objects in [8, 32, 64, 128, 256] {
-        let clouds = random_clouds(20, objects, 60, 11)?;
+        let clouds = random_clouds(20, objects, 60, seed)?;
         write(&out.join(format!("clouds-{objects}.jsonl")), &clouds)?;
     }
     Ok(())

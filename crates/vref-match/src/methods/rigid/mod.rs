@@ -29,7 +29,8 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     let spacing = median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
     let log_g = appearance_log_likelihood(problem, rp.appearance_temperature, rp.appearance_floor);
     let mut costs = Costs::new(problem, &log_g, spacing, rp);
-    let mut found = search(&costs, costs.typical, rp);
+    let seeds = consistency_seed(problem, params, costs.typical);
+    let mut found = search(&costs, costs.typical, rp, &seeds);
     // The noise this scene shows under its best motion replaces the
     // assumed one, and the kept motions are judged again under it; again,
     // since pairs the assumed scales cut off count once the scales widen.
@@ -162,6 +163,26 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         motion,
         margin: margin.is_finite().then_some(margin),
     }
+}
+
+/// The motion of the densest consistent cluster of candidate pairs
+/// (`clipper`, with the distance tolerance of rigid's own typical pair
+/// scale rather than the published methods' bandwidth), as one more
+/// hypothesis; none above `clipper_seed_pairs` candidate pairs, where the
+/// cluster search costs more than the live budget allows.
+fn consistency_seed(problem: &Problem, params: &Params, typical: f64) -> Vec<RigidMotion> {
+    let rp = &params.rigid;
+    if problem.n * problem.m > rp.clipper_seed_pairs || problem.n < 3 || problem.m < 3 {
+        return Vec::new();
+    }
+    let own = Params {
+        beta: 2.0 * typical * typical,
+        ..*params
+    };
+    let cluster = super::clipper::solve(problem, &own);
+    fit_assigned(problem, &cluster.assignment)
+        .into_iter()
+        .collect()
 }
 
 /// `(a - max of the row) / temperature`: the log of an appearance

@@ -104,6 +104,10 @@ pub struct RigidParams {
     /// chance in the scene; a partner is only as sure as the best motion is
     /// unlike chance (0: not measured, every motion taken as real).
     pub chance_samples: usize,
+    /// The densest consistent cluster of candidate pairs (`clipper`) gives
+    /// the search one more hypothesis in scenes of at most this many
+    /// pairs (n x m); 0 never.
+    pub clipper_seed_pairs: usize,
 
     /// Seed of the hypothesis sampler (answers are deterministic).
     pub seed: u64,
@@ -114,7 +118,7 @@ pub struct RigidParams {
 impl Default for RigidParams {
     fn default() -> Self {
         Self {
-            appearance_temperature: 0.1,
+            appearance_temperature: 0.2,
             appearance_floor: 0.1,
             candidates: 6,
             hypotheses: 200,
@@ -138,6 +142,7 @@ impl Default for RigidParams {
             never_empty: true,
             same_side: true,
             chance_samples: 32,
+            clipper_seed_pairs: 0,
 
             seed: 0x5eed,
             calibration: Calibration::default(),

@@ -21,7 +21,12 @@ const LOCAL_REFITS: usize = 3;
 /// The best-scoring proper motion among hypotheses fitted to three
 /// distance-consistent candidate pairs; `None` when either view has fewer
 /// than three objects or no sample is consistent.
-pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
+pub(super) fn search(
+    costs: &Costs<'_>,
+    sigma: f64,
+    rp: &RigidParams,
+    seeds: &[RigidMotion],
+) -> Option<Found> {
     let problem = costs.problem;
     let (n, m) = (problem.n, problem.m);
     if n < 3 || m < 3 {
@@ -132,6 +137,19 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
             top.clear();
         } else {
             tests += scored;
+        }
+    }
+    // Motions found otherwise (the consistency graph's cluster) compete
+    // with the sampled ones on the same score.
+    for seed in seeds {
+        if let Some((score, _)) = greedy(
+            costs,
+            seed,
+            rp.unmatched_cost,
+            f64::NEG_INFINITY,
+            &mut scratch,
+        ) {
+            keep_best(&mut top, keep, score, *seed, same);
         }
     }
     let refined = optimise_locally(costs, rp, top, &mut scratch);
