@@ -4,7 +4,7 @@
 //! confidence at least the matcher's ambiguity threshold, 0.5).
 //!
 //! Ignored: slow, and not met today. `tools/method-tables.sh` measures the
-//! same on the reporting files' unrelated views (docs/method.md: 15% of
+//! same on the reporting files' unrelated views (docs/method.md: 14% of
 //! answers `ok` on the build that wrote it). Run with
 //! `cargo test --release -p vref-sim --test coincidence -- --ignored`.
 

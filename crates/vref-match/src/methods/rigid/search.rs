@@ -12,9 +12,11 @@ use crate::rigid::RigidMotion;
 /// Minimal samples tried per hypothesis scored; most fail the cheap
 /// distance check, so this bounds the search when nothing is consistent.
 const ATTEMPTS_PER_HYPOTHESIS: usize = 50;
-/// Robot objects this much below a row's best appearance log-likelihood
-/// (a tenth of its likelihood) are still candidates.
-const CANDIDATE_LOG_GAP: f64 = std::f64::consts::LN_10;
+/// Robot objects whose appearance affinity is this much below the row's
+/// best are still candidates (a tenth of the likelihood at the
+/// temperature this was chosen with, 0.1); in affinity units, so that the
+/// temperature weighs appearance without widening the search.
+const CANDIDATE_GAP: f64 = 0.1 * std::f64::consts::LN_10;
 /// Re-fits per locally optimised hypothesis (each must raise its score).
 const LOCAL_REFITS: usize = 3;
 
@@ -552,14 +554,14 @@ fn fit_pairs(problem: &Problem, pairs: &[(usize, usize)]) -> Option<RigidMotion>
 
 /// For each human object, the robot objects that hypotheses may pair it
 /// with, most similar first: its `k` most similar, and every other whose
-/// appearance likelihood is within [`CANDIDATE_LOG_GAP`] of the best (all
+/// appearance likelihood is within [`CANDIDATE_GAP`] of the best in affinity (all
 /// of them when appearance tells nothing, as without features).
 fn candidate_columns(log_g: &[f64], n: usize, m: usize, rp: &RigidParams) -> Vec<Vec<usize>> {
     let k = rp.candidates;
     // The gap is of the likelihood before its floor (the floor keeps a
     // pair's cost bounded; it must not make every object a candidate).
     let floor = rp.appearance_floor;
-    let gap = ((1.0 - floor) * (-CANDIDATE_LOG_GAP).exp() + floor).ln();
+    let gap = ((1.0 - floor) * (-CANDIDATE_GAP / rp.appearance_temperature).exp() + floor).ln();
     (0..n)
         .map(|i| {
             let row = &log_g[i * m..(i + 1) * m];
