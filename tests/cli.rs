@@ -55,7 +55,10 @@ fn eval_json_has_one_object_per_method_with_the_contract_fields() {
         .iter()
         .map(|v| v["method"].as_str().unwrap())
         .collect();
-    assert_eq!(methods, ["appearance", "sm", "rrwm", "paper", "rigid"]);
+    assert_eq!(
+        methods,
+        ["appearance", "sm", "rrwm", "paper", "rigid", "clipper"]
+    );
     for v in &lines {
         assert_eq!(v["dataset"], data.as_str());
         assert_eq!(v["scenes"], 1);

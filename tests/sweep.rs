@@ -104,8 +104,8 @@ fn without_json_a_table_lists_every_level_and_method() {
         text.starts_with("mrc, feature-noise: 1 scenes per level, seed 1\n"),
         "{text}"
     );
-    // Header, then 2 levels x 5 methods.
-    assert_eq!(text.lines().count(), 1 + 1 + 10, "{text}");
+    // Header, then 2 levels x 6 methods.
+    assert_eq!(text.lines().count(), 1 + 1 + 12, "{text}");
     assert!(dir.path().join("f.png").is_file());
 }
 

@@ -25,7 +25,8 @@ for gap in "${gaps[@]}"; do
   while IFS=$'\t' read -r method a us; do
     acc[$method,$gap]=$a
     solve[$method,$gap]=$us
-  done < <("$vref" eval --dataset "$work/g$gap.jsonl" --beta 2500 --json |
+  done < <("$vref" eval --dataset "$work/g$gap.jsonl" --beta 2500 --json \
+    $(printf -- '--method %s ' "${methods[@]}") |
     python3 -c 'import json,sys
 for l in sys.stdin:
     r = json.loads(l)

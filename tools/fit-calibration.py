@@ -1,18 +1,25 @@
 #!/usr/bin/env python3
-"""Fits the `rigid` method's confidence calibration on training seeds.
+"""Fits the `rigid` method's confidence calibration on training files.
 
-    python3 tools/fit-calibration.py [--seeds 100-109] [--vref target/release/vref]
+    python3 tools/fit-calibration.py [--settings FILE] [--vref target/release/vref] TRAIN.jsonl...
 
-For each preset (moi, mrc) and each training seed it generates 30 scenes,
-runs `vref eval --method rigid --answers` with the calibration switched to
-the identity (bias 0, slope 1, no_partner_shift 0), so that every
-answer's confidence is its raw share (abstention, decided on raw shares,
-stays as configured), then fits the logistic
-map `p = sigmoid(bias + slope * logit(raw) + no_partner_shift * [no
-partner])` by Newton's method on the log loss. It prints the
+Runs `vref eval --method rigid --answers` on every file with the
+calibration switched to the identity (bias 0, slope 1, other terms 0), so
+that each answer's confidence is its raw share (abstention, decided on raw
+shares, stays as configured; `--settings` holds further `[matching.rigid]`
+lines), then fits the logistic map
+
+    p = sigmoid(bias + slope * logit(raw) + no_partner_shift * [no partner]
+                + partner_margin * [partner] * g + none_margin * [no partner] * g)
+
+(g: the best motion's margin over chance, clamped to [-3, 3]) by Newton's
+method on the log loss, every file weighing the same (a file of many
+answers does not outweigh a family of few). It prints the
 `[matching.rigid.calibration]` constants, which go into
-crates/vref-match/src/calibration.rs (the defaults) and config/vref.toml.
-Only training seeds are used: the README's figures come from other seeds.
+crates/vref-match/src/calibration.rs (the defaults) and config/vref.toml,
+and each file's training ECE. Only training files may be given: the
+figures of docs/method.md come from others (tools/carryover-data.sh lists
+which are which).
 """
 import argparse
 import json
@@ -21,8 +28,10 @@ import os
 import subprocess
 import sys
 import tempfile
+from concurrent.futures import ThreadPoolExecutor
 
 EPS = 1e-6
+CAP = 3.0
 
 
 def logit(p):
@@ -30,91 +39,104 @@ def logit(p):
     return math.log(p / (1 - p))
 
 
-def answers(vref, preset, seed, work):
-    scenes = os.path.join(work, f"{preset}-{seed}.jsonl")
-    out = os.path.join(work, f"{preset}-{seed}.answers.jsonl")
-    config = os.path.join(work, "identity.toml")
-    with open(config, "w") as f:
-        f.write("[matching.rigid.calibration]\nbias = 0.0\nslope = 1.0\nno_partner_shift = 0.0\n")
-    subprocess.run([vref, "scenes", "--preset", preset, "--count", "30", "--seed", str(seed),
-                    "--out", scenes], check=True, stderr=subprocess.DEVNULL)
-    subprocess.run([vref, "eval", "--config", config, "--dataset", scenes, "--method", "rigid",
+def features(row):
+    g = row.get("margin")
+    g = CAP if g is None else max(-CAP, min(CAP, g))
+    none = 0.0 if row["matched"] else 1.0
+    return (1.0, logit(row["confidence"]), none, (1 - none) * g, none * g)
+
+
+def answers(vref, path, config, work):
+    out = os.path.join(work, os.path.basename(path) + ".answers.jsonl")
+    subprocess.run([vref, "eval", "--config", config, "--dataset", path, "--method", "rigid",
                     "--answers", out, "--json"], check=True, stdout=subprocess.DEVNULL,
                    stderr=subprocess.DEVNULL)
     with open(out) as f:
         return [json.loads(line) for line in f]
 
 
-def fit(rows, iterations=50):
-    """Logistic regression of `correct` on (1, logit(raw), no partner)."""
-    xs = [(1.0, logit(r["confidence"]), 0.0 if r["matched"] else 1.0) for r in rows]
+def solve(a, b):
+    """Solves a x = b (small, dense) by Gaussian elimination."""
+    n = len(b)
+    m = [row[:] + [b[i]] for i, row in enumerate(a)]
+    for c in range(n):
+        p = max(range(c, n), key=lambda r: abs(m[r][c]))
+        m[c], m[p] = m[p], m[c]
+        for r in range(n):
+            if r != c and m[c][c] != 0:
+                f = m[r][c] / m[c][c]
+                m[r] = [x - f * y for x, y in zip(m[r], m[c])]
+    return [m[i][n] / m[i][i] for i in range(n)]
+
+
+def fit(rows, weights, iterations=60):
+    xs = [features(r) for r in rows]
     ys = [1.0 if r["correct"] else 0.0 for r in rows]
-    w = [0.0, 1.0, 0.0]
+    k = len(xs[0])
+    w = [0.0, 1.0, 0.0, 0.0, 0.0]
     for _ in range(iterations):
-        grad = [0.0] * 3
-        hess = [[1e-6 if i == j else 0.0 for j in range(3)] for i in range(3)]
-        for x, y in zip(xs, ys):
+        grad = [0.0] * k
+        hess = [[1e-4 if i == j else 0.0 for j in range(k)] for i in range(k)]
+        for x, y, v in zip(xs, ys, weights):
             z = sum(wi * xi for wi, xi in zip(w, x))
             p = 1 / (1 + math.exp(-max(min(z, 40), -40)))
-            for i in range(3):
-                grad[i] += (p - y) * x[i]
-                for j in range(3):
-                    hess[i][j] += p * (1 - p) * x[i] * x[j]
-        step = solve3(hess, grad)
+            for i in range(k):
+                grad[i] += v * (p - y) * x[i]
+                for j in range(k):
+                    hess[i][j] += v * p * (1 - p) * x[i] * x[j]
+        step = solve(hess, grad)
         w = [wi - si for wi, si in zip(w, step)]
-        if max(abs(s) for s in step) < 1e-10:
+        if max(abs(s) for s in step) < 1e-9:
             break
     return w
 
 
-def solve3(a, b):
-    """Gaussian elimination for a 3x3 system."""
-    m = [row[:] + [v] for row, v in zip(a, b)]
-    for c in range(3):
-        pivot = max(range(c, 3), key=lambda r: abs(m[r][c]))
-        m[c], m[pivot] = m[pivot], m[c]
-        for r in range(3):
-            if r != c and m[c][c] != 0:
-                f = m[r][c] / m[c][c]
-                m[r] = [x - f * y for x, y in zip(m[r], m[c])]
-    return [m[i][3] / m[i][i] if m[i][i] != 0 else 0.0 for i in range(3)]
+def probability(w, row):
+    z = sum(wi * xi for wi, xi in zip(w, features(row)))
+    return 1 / (1 + math.exp(-max(min(z, 40), -40)))
 
 
 def ece(pairs, bins=10):
-    counts = [[0, 0.0, 0] for _ in range(bins)]
-    for c, ok in pairs:
-        b = min(int(c * bins), bins - 1)
-        counts[b][0] += 1
-        counts[b][1] += c
-        counts[b][2] += ok
-    n = len(pairs)
-    return sum(k / n * abs(s / k - r / k) for k, s, r in counts if k)
+    total = len(pairs)
+    out = 0.0
+    for b in range(bins):
+        inside = [(c, ok) for c, ok in pairs if min(int(c * bins), bins - 1) == b]
+        if inside:
+            conf = sum(c for c, _ in inside) / len(inside)
+            acc = sum(1 for _, ok in inside if ok) / len(inside)
+            out += len(inside) / total * abs(conf - acc)
+    return out
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--seeds", default="100-109", help="training seeds, FIRST-LAST")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--settings", help="a file of further [matching.rigid] lines")
     parser.add_argument("--vref", default="target/release/vref")
+    parser.add_argument("files", nargs="+")
     args = parser.parse_args()
-    first, last = (int(s) for s in args.seeds.split("-"))
-    rows = []
+    settings = open(args.settings).read() if args.settings else ""
     with tempfile.TemporaryDirectory() as work:
-        for preset in ("moi", "mrc"):
-            for seed in range(first, last + 1):
-                rows += answers(args.vref, preset, seed, work)
-    bias, slope, shift = fit(rows)
-    def calibrated(r):
-        z = bias + slope * logit(r["confidence"]) + (0.0 if r["matched"] else shift)
-        return 1 / (1 + math.exp(-z))
-    raw_ece = ece([(r["confidence"], r["correct"]) for r in rows])
-    fit_ece = ece([(calibrated(r), r["correct"]) for r in rows])
-    print(f"# {len(rows)} answers from seeds {first}-{last} of moi and mrc; "
-          f"ECE raw {raw_ece:.4f}, calibrated {fit_ece:.4f} (training set)")
+        config = os.path.join(work, "identity.toml")
+        with open(config, "w") as f:
+            f.write("[matching.rigid]\n" + settings + "\n[matching.rigid.calibration]\n"
+                    "bias = 0.0\nslope = 1.0\nno_partner_shift = 0.0\n"
+                    "partner_margin = 0.0\nnone_margin = 0.0\n")
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            per_file = list(pool.map(lambda p: answers(args.vref, p, config, work), args.files))
+    rows, weights = [], []
+    for file_rows in per_file:
+        rows += file_rows
+        weights += [1.0 / len(file_rows)] * len(file_rows)
+    w = fit(rows, weights)
     print("[matching.rigid.calibration]")
-    print(f"bias = {bias:.4f}")
-    print(f"slope = {slope:.4f}")
-    print(f"no_partner_shift = {shift:.4f}")
+    for name, value in zip(["bias", "slope", "no_partner_shift", "partner_margin",
+                            "none_margin"], w):
+        print(f"{name} = {value:.4f}")
+    for path, file_rows in zip(args.files, per_file):
+        pairs = [(probability(w, r), r["correct"]) for r in file_rows]
+        print(f"# {os.path.basename(path)}: {len(file_rows)} answers, training ECE "
+              f"{ece(pairs):.3f}", file=sys.stderr)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

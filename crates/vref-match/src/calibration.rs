@@ -6,9 +6,14 @@ use serde::{Deserialize, Serialize};
 /// Bins of [`expected_calibration_error`]'s default use (`vref eval`).
 pub const ECE_BINS: usize = 10;
 
-/// A logistic map `p = 1 / (1 + exp(-(bias + slope * logit(raw) + no_partner_shift * [no partner])))`
-/// from a raw row share to a probability; answers "no partner" get their
-/// own offset, since their share comes from a different part of the model.
+/// A logistic map `p = 1 / (1 + exp(-(bias + slope * logit(raw) +
+/// no_partner_shift * [no partner] + margin term)))` from a raw row share
+/// to a probability; answers "no partner" get their own offset, since
+/// their share comes from a different part of the model. The margin term
+/// is `partner_margin * g` for a partner and `none_margin * g` for "no
+/// partner", `g` the best motion's margin over chance (clamped to
+/// [-MARGIN_CAP, MARGIN_CAP]): a partner is only as sure as the motion it
+/// rests on is unlike a coincidence.
 /// The constants are fitted on training seeds by
 /// `tools/fit-calibration.py` (see its header for the command).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -17,16 +22,25 @@ pub struct Calibration {
     pub bias: f64,
     pub slope: f64,
     pub no_partner_shift: f64,
+    pub partner_margin: f64,
+    pub none_margin: f64,
 }
+
+/// Margins over chance beyond this tell nothing more.
+pub const MARGIN_CAP: f64 = 3.0;
 
 impl Default for Calibration {
     fn default() -> Self {
-        // Fitted by `python3 tools/fit-calibration.py --seeds 100-109`
-        // (moi and mrc, 30 scenes per seed, 5875 answers).
+        // Fitted by `python3 tools/fit-calibration.py` on the training
+        // files of every family (docs/method.md, "How each data set is
+        // used": vref-sim seeds 100-109, the external sets' first halves,
+        // the rendered scenes 000000-000005).
         Self {
-            bias: 2.8974,
-            slope: 0.5719,
-            no_partner_shift: -1.4116,
+            bias: 0.7188,
+            slope: 0.9369,
+            no_partner_shift: 1.6432,
+            partner_margin: 0.5251,
+            none_margin: 0.2332,
         }
     }
 }
@@ -37,13 +51,19 @@ const SHARE_EPS: f64 = 1e-6;
 
 impl Calibration {
     /// The probability that an answer with row share `raw` (in [0, 1]) is
-    /// right; `no_partner` when the answer is "no partner".
-    pub fn probability(&self, raw: f64, no_partner: bool) -> f64 {
+    /// right; `no_partner` when the answer is "no partner"; `margin` the
+    /// best motion's margin over chance (`MARGIN_CAP` when unmeasured).
+    pub fn probability(&self, raw: f64, no_partner: bool, margin: f64) -> f64 {
         let raw = if raw.is_finite() { raw } else { 0.0 };
-        let shift = if no_partner {
-            self.no_partner_shift
+        let g = if margin.is_finite() {
+            margin.clamp(-MARGIN_CAP, MARGIN_CAP)
         } else {
-            0.0
+            MARGIN_CAP
+        };
+        let shift = if no_partner {
+            self.no_partner_shift + self.none_margin * g
+        } else {
+            self.partner_margin * g
         };
         let z = self.bias + self.slope * logit(raw) + shift;
         1.0 / (1.0 + (-z).exp())

@@ -19,7 +19,7 @@ pub enum MatchError {
         rows: usize,
         cols: usize,
     },
-    #[error("unknown method `{0}` (expected one of: appearance, sm, rrwm, paper, rigid)")]
+    #[error("unknown method `{0}` (expected one of: appearance, sm, rrwm, paper, rigid, clipper)")]
     UnknownMethod(String),
     #[error("the matcher engine takes fully connected graphs; this one has an edge list")]
     EdgeListInEngine,

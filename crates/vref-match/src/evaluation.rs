@@ -34,6 +34,8 @@ pub struct RowAnswer {
     /// Object counts of the scene's human and robot views.
     pub human_objects: usize,
     pub robot_objects: usize,
+    /// The method's margin of its motion over chance, where it has one.
+    pub margin: Option<f64>,
 }
 
 /// One method's result over all scenes added.
@@ -111,6 +113,7 @@ impl Evaluation {
                     matched: a.is_some(),
                     human_objects: pair.human.len(),
                     robot_objects: pair.robot.len(),
+                    margin: solution.margin,
                 });
             }
             self.scores[k].push(score_scene(&human_ids, &predicted, &pair.ground_truth));

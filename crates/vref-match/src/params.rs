@@ -1,7 +1,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::MatchError;
-use crate::RigidParams;
+use crate::{ClipperParams, RigidParams};
 
 /// Every constant of ALGORITHMS.md, with its defaults.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -19,6 +19,7 @@ pub struct Params {
     /// Shortcuts of the live tier (unused by the exact tier).
     pub live: LiveParams,
     pub rigid: RigidParams,
+    pub clipper: ClipperParams,
 }
 
 /// Spectral matching's power iteration.
@@ -103,6 +104,7 @@ impl Default for Params {
             paper: PaperParams::default(),
             live: LiveParams::default(),
             rigid: RigidParams::default(),
+            clipper: ClipperParams::default(),
         }
     }
 }
@@ -161,6 +163,7 @@ impl Params {
         unit("paper.lambda1", self.paper.lambda1)?;
         unit("paper.lambda2", self.paper.lambda2)?;
         self.rigid.validate()?;
+        self.clipper.validate()?;
         // exp(amplification) must stay finite after Sinkhorn's products.
         if !(self.rrwm.amplification > 0.0 && self.rrwm.amplification <= 300.0) {
             return Err(MatchError::BadParameter {

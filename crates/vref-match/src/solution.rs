@@ -23,6 +23,10 @@ pub struct Solution {
     /// the answer rests on, for methods that estimate one (`rigid`); `None`
     /// for the others, and when `rigid` found no motion.
     pub motion: Option<RigidMotion>,
+    /// How far the motion stands above what chance explains, in deviations
+    /// of the chance scores beyond the best chance reaches (`rigid`, when
+    /// measured); `None` otherwise.
+    pub margin: Option<f64>,
 }
 
 impl Solution {

@@ -215,17 +215,25 @@ fn the_calibration_map_is_a_logistic_of_the_share() {
         bias: 0.0,
         slope: 1.0,
         no_partner_shift: 0.0,
+        partner_margin: 0.0,
+        none_margin: 0.0,
     };
     for p in [0.1, 0.5, 0.73, 0.99] {
-        assert!((identity.probability(p, false) - p).abs() < 1e-9);
+        assert!((identity.probability(p, false, 3.0) - p).abs() < 1e-9);
     }
     let fitted = Calibration::default();
-    // Monotone in the share; "no partner" shifted by its own offset.
-    assert!(fitted.probability(0.9, false) > fitted.probability(0.6, false));
-    let z = fitted.bias + fitted.slope * logit(0.6) + fitted.no_partner_shift;
+    // Monotone in the share; "no partner" shifted by its own offset and
+    // margin term, the margin clamped to 3.
+    assert!(fitted.probability(0.9, false, 3.0) > fitted.probability(0.6, false, 3.0));
+    let z = fitted.bias
+        + fitted.slope * logit(0.6)
+        + fitted.no_partner_shift
+        + 3.0 * fitted.none_margin;
     let expected = 1.0 / (1.0 + (-z).exp());
-    assert!((fitted.probability(0.6, true) - expected).abs() < 1e-12);
-    assert!(fitted.probability(f64::NAN, false).is_finite());
+    assert!((fitted.probability(0.6, true, 7.0) - expected).abs() < 1e-12);
+    // A partner is surer the more its motion stands above chance.
+    assert!(fitted.probability(0.6, false, 2.0) > fitted.probability(0.6, false, -1.0));
+    assert!(fitted.probability(f64::NAN, false, f64::NAN).is_finite());
 }
 
 /// Four objects on the corners of a square, all alike, seen again after a

@@ -61,6 +61,7 @@ mod sensor;
 mod shape;
 mod staging;
 mod sweep;
+pub mod unrelated;
 mod visibility;
 mod world;
 

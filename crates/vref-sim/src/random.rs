@@ -42,6 +42,8 @@ pub(crate) enum Purpose {
     Frame = 3,
     /// The person's choice of target and pointing error.
     Gesture = 4,
+    /// Views with nothing in common (`unrelated`).
+    Unrelated = 5,
 }
 
 /// A random stream that depends only on `seed`, `purpose`, `key` and

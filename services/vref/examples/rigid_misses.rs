@@ -61,11 +61,24 @@ fn main() -> anyhow::Result<()> {
         for i in 0..problem.n {
             let said = solution.assignment[i];
             let tj = true_j(i);
-            if said == tj || said.is_none() {
+            if said == tj {
                 continue;
             }
-            let j = said.unwrap_or_default();
             let moved = gt.apply(&problem.human_positions[i]);
+            let Some(j) = said else {
+                // A partner missed: the object was answered "no partner".
+                if let Some(t) = tj {
+                    let row = &problem.appearance[i * m..(i + 1) * m];
+                    let amax = row.iter().copied().fold(f64::MIN, f64::max);
+                    lines.push(format!(
+                        "  h{i} -> none conf {:.3}; truth j{t}: r {:.3} a {:.3} (row max {amax:.3})",
+                        solution.confidence[i],
+                        (moved - problem.robot_positions[t]).norm(),
+                        row[t]
+                    ));
+                }
+                continue;
+            };
             let r_said = (moved - problem.robot_positions[j]).norm();
             let a_said = problem.appearance[i * m + j];
             let other = match tj {

@@ -128,7 +128,7 @@ pub struct EvalArgs {
     )]
     pub levels: Option<Vec<f64>>,
     /// Method to evaluate; repeat for several. Default: all of them
-    /// (appearance, sm, rrwm, paper, rigid).
+    /// (appearance, sm, rrwm, paper, rigid, clipper).
     #[arg(long = "method", value_name = "NAME", value_parser = parse_method)]
     pub methods: Vec<Method>,
     /// Spatial bandwidth beta, overriding the configuration (CMU House in

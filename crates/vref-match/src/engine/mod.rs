@@ -185,10 +185,10 @@ impl Engine {
         if m == 0 {
             return Err(MatchError::EmptyGraph { side: "robot" });
         }
-        // `rigid` never multiplies by S and has no iterations to stop early
-        // or warm-start: the live tier's shortcuts would only prune its
-        // candidates, so it always runs as in the exact tier.
-        let tier = if self.method == Method::Rigid {
+        // `rigid` and `clipper` never multiply by S and have no iterations
+        // to stop early or warm-start: the live tier's shortcuts would only
+        // prune their candidates, so they always run as in the exact tier.
+        let tier = if matches!(self.method, Method::Rigid | Method::Clipper) {
             Tier::Exact
         } else {
             self.tier
@@ -245,7 +245,10 @@ impl Engine {
         let (h, r) = (&self.human, &self.robot);
         match previous {
             Some(SpatialTerm::Edges(previous))
-                if !matches!(self.method, Method::Appearance | Method::Rigid) =>
+                if !matches!(
+                    self.method,
+                    Method::Appearance | Method::Rigid | Method::Clipper
+                ) =>
             {
                 SpatialAffinity::updated(
                     previous,

@@ -1,7 +1,9 @@
 //! The four methods of ALGORITHMS.md, each producing a soft correspondence
-//! that ends with Hungarian discretisation, and vref's own `rigid`.
+//! that ends with Hungarian discretisation, vref's own `rigid`, and
+//! `clipper`, an anchor from the robust-association literature.
 
 mod appearance_only;
+mod clipper;
 mod paper;
 mod rigid;
 mod rrwm;
@@ -12,6 +14,7 @@ mod vector;
 use std::fmt;
 use std::str::FromStr;
 
+pub use clipper::ClipperParams;
 pub use rigid::RigidParams;
 
 use crate::{MatchError, Params, Problem, Solution, hungarian_max};
@@ -30,15 +33,19 @@ pub enum Method {
     /// vref's own: a rigid motion between the views found by RANSAC,
     /// verification of every pair, "no partner" when nothing fits.
     Rigid,
+    /// CLIPPER (Lusk, Fathian, How 2021): the densest consistent subgraph
+    /// of appearance-gated candidate pairs.
+    Clipper,
 }
 
 impl Method {
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 6] = [
         Method::Appearance,
         Method::Sm,
         Method::Rrwm,
         Method::Paper,
         Method::Rigid,
+        Method::Clipper,
     ];
 
     pub fn name(self) -> &'static str {
@@ -48,6 +55,7 @@ impl Method {
             Method::Rrwm => "rrwm",
             Method::Paper => "paper",
             Method::Rigid => "rigid",
+            Method::Clipper => "clipper",
         }
     }
 }
@@ -113,6 +121,7 @@ pub fn solve_with(
     }
     let soft = match method {
         Method::Rigid => return Ok(rigid::solve(problem, params)),
+        Method::Clipper => return Ok(clipper::solve(problem, params)),
         Method::Appearance => appearance_only::solve(problem),
         Method::Sm => sm::solve(problem, &params.sm, options),
         Method::Rrwm => rrwm::solve(problem, params, options),
@@ -127,6 +136,7 @@ pub fn solve_with(
         iterations: soft.iterations,
         converged: soft.converged,
         motion: None,
+        margin: None,
     })
 }
 

@@ -30,17 +30,40 @@ pub(super) struct Costs<'a> {
 }
 
 /// Each object's ray from its camera and depth variance along it.
+#[derive(Clone)]
 pub(super) struct Rays {
     /// Unit rays of the human objects (human frame) and their variances.
-    human: Vec<(nalgebra::Vector3<f64>, f64)>,
+    pub(super) human: Vec<(nalgebra::Vector3<f64>, f64)>,
     /// Robot rays by coordinate, and their variances.
-    robot_u: [Vec<f64>; 3],
-    robot_var: Vec<f64>,
+    pub(super) robot_u: [Vec<f64>; 3],
+    pub(super) robot_var: Vec<f64>,
+    /// The depth variances' shapes, which the [`Noise`] multipliers scale:
+    /// the squared range where the error is assumed, the stated variance
+    /// where it is stated.
+    pub(super) human_base: Vec<f64>,
+    pub(super) robot_base: Vec<f64>,
     /// Lateral variance (sigma squared).
     pub(super) lateral: f64,
+    /// The scales in force.
+    pub(super) noise: Noise,
+    /// Heavy tails: a squared residual `d^2` costs `tail / 2 ln(1 + d^2 /
+    /// tail)` instead of `d^2 / 2` (0: the Gaussian's).
+    pub(super) tail: f64,
+    /// Half squared lengths whose tailed cost reaches "no partner".
+    gate: f64,
     /// Whether the depth variances are `depth_error`'s assumption rather
     /// than the sensors' statement.
     pub(super) assumed: bool,
+}
+
+/// The three scales of the ray model: the lateral variance, and the
+/// multipliers of each camera's depth variances (their shapes, in
+/// [`Rays`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Noise {
+    pub(super) lateral: f64,
+    pub(super) robot: f64,
+    pub(super) human: f64,
 }
 
 impl Rays {
@@ -64,26 +87,62 @@ impl Rays {
                 .enumerate()
                 .map(|(k, p)| {
                     let range = p.coords.norm();
-                    let along = if stated {
+                    let base = if stated {
                         // The mean over the axes times three: the total.
                         3.0 * variance(variances, k)
                     } else {
-                        (rp.depth_error * range).powi(2)
+                        range * range
                     };
-                    (p.coords / range, along)
+                    (p.coords / range, base)
                 })
                 .collect()
         };
         let human = rays(&problem.human_positions, &problem.human_variances);
         let robot = rays(&problem.robot_positions, &problem.robot_variances);
         let axis = |k: usize| robot.iter().map(|(u, _)| u[k]).collect();
-        Some(Self {
+        let depth = if stated { 1.0 } else { rp.depth_error.powi(2) };
+        let mut rays = Self {
+            human_base: human.iter().map(|(_, b)| *b).collect(),
             human,
             robot_u: [axis(0), axis(1), axis(2)],
-            robot_var: robot.iter().map(|(_, v)| *v).collect(),
+            robot_base: robot.iter().map(|(_, b)| *b).collect(),
+            robot_var: Vec::new(),
             lateral: lateral_sigma * lateral_sigma,
+            tail: rp.tail,
+            gate: if rp.tail > 0.0 {
+                0.5 * rp.tail * (2.0 * rp.unmatched_cost / rp.tail).exp_m1()
+            } else {
+                f64::INFINITY
+            },
+            noise: Noise {
+                lateral: 0.0,
+                robot: 0.0,
+                human: 0.0,
+            },
             assumed: !stated,
-        })
+        };
+        rays.set(Noise {
+            lateral: lateral_sigma * lateral_sigma,
+            robot: depth,
+            human: depth,
+        });
+        Some(rays)
+    }
+
+    /// Takes on `noise`'s scales.
+    pub(super) fn set(&mut self, noise: Noise) {
+        self.lateral = noise.lateral;
+        self.noise = noise;
+        self.robot_var = self.robot_base.iter().map(|b| b * noise.robot).collect();
+        for ((_, v), b) in self.human.iter_mut().zip(&self.human_base) {
+            *v = b * noise.human;
+        }
+    }
+
+    /// The typical pair's residual scale.
+    fn typical(&self) -> f64 {
+        let human: Vec<f64> = self.human.iter().map(|(_, h)| *h).collect();
+        (self.lateral + median(&human) + median(&self.robot_var)).sqrt()
     }
 
     /// Half the squared Mahalanobis length of residual `r` of human object
@@ -122,6 +181,24 @@ impl Rays {
         for k in 0..m {
             let r = [moved.x - xs[k], moved.y - ys[k], moved.z - zs[k]];
             out[k] = half_mahalanobis2(r, w, alpha, [ux[k], uy[k], uz[k]], var[k], inv);
+        }
+        if self.tail > 0.0 {
+            // Beyond `gate` a pair costs more than "no partner" with or
+            // without the tail; the search only asks which pairs are below
+            // it, so the logarithm is spent on those alone.
+            for o in out.iter_mut().filter(|o| **o < self.gate) {
+                *o = self.robust(*o);
+            }
+        }
+    }
+
+    /// The cost of half a squared Mahalanobis length `q`.
+    #[inline]
+    pub(super) fn robust(&self, q: f64) -> f64 {
+        if self.tail > 0.0 {
+            0.5 * self.tail * (2.0 * q / self.tail).ln_1p()
+        } else {
+            q
         }
     }
 
@@ -180,8 +257,7 @@ impl<'a> Costs<'a> {
         let typical = if stated.is_some() {
             (sigma2 + median(&problem.human_variances) + median(&problem.robot_variances)).sqrt()
         } else if let Some(rays) = &rays {
-            let human: Vec<f64> = rays.human.iter().map(|(_, h)| *h).collect();
-            (rays.lateral + median(&human) + median(&rays.robot_var)).sqrt()
+            rays.typical()
         } else {
             sigma
         };
@@ -191,6 +267,26 @@ impl<'a> Costs<'a> {
             inv_two_sigma2: 1.0 / (2.0 * sigma2),
             stated,
             robot_xyz: [axis(0), axis(1), axis(2)],
+            rays,
+            typical,
+        }
+    }
+
+    /// These costs with the ray model's scales set to `noise` (no change
+    /// for views without rays).
+    pub(super) fn with_noise(&self, noise: Noise) -> Self {
+        let mut rays = self.rays.clone();
+        let mut typical = self.typical;
+        if let Some(r) = &mut rays {
+            r.set(noise);
+            typical = r.typical();
+        }
+        Self {
+            problem: self.problem,
+            log_g: self.log_g,
+            inv_two_sigma2: self.inv_two_sigma2,
+            stated: self.stated.clone(),
+            robot_xyz: self.robot_xyz.clone(),
             rays,
             typical,
         }
@@ -239,7 +335,8 @@ impl<'a> Costs<'a> {
                 let d = p - self.problem.robot_positions[j];
                 if let Some(rays) = &self.rays {
                     let (w, alpha) = rays.human_ray(i, &t.rotation);
-                    return appearance + rays.half_distance2([d.x, d.y, d.z], w, alpha, j);
+                    return appearance
+                        + rays.robust(rays.half_distance2([d.x, d.y, d.z], w, alpha, j));
                 }
                 let r2 = d.norm_squared();
                 let inv = self
@@ -308,8 +405,17 @@ mod tests {
                 human: vec![(w, h)],
                 robot_u: [vec![u.x], vec![u.y], vec![u.z]],
                 robot_var: vec![c],
+                human_base: vec![h],
+                robot_base: vec![c],
                 lateral,
+                noise: super::Noise {
+                    lateral,
+                    robot: 1.0,
+                    human: 1.0,
+                },
                 assumed: true,
+                tail: 0.0,
+                gate: f64::INFINITY,
             };
             let covariance =
                 Matrix3::identity() * lateral + w * w.transpose() * h + u * u.transpose() * c;
@@ -332,8 +438,17 @@ mod tests {
             human: vec![(Vector3::z(), 0.0)],
             robot_u: [vec![0.0], vec![0.0], vec![1.0]],
             robot_var: vec![3.0],
+            human_base: vec![0.0],
+            robot_base: vec![3.0],
             lateral: 1.0,
+            noise: super::Noise {
+                lateral: 1.0,
+                robot: 1.0,
+                human: 1.0,
+            },
             assumed: true,
+            tail: 0.0,
+            gate: f64::INFINITY,
         };
         let (w, alpha) = rays.human_ray(0, &Matrix3::identity());
         let along = rays.half_distance2([0.0, 0.0, 2.0], w, alpha, 0);

@@ -6,7 +6,9 @@
 //! one camera alone sees stay unmatched. Its confidence is a calibrated
 //! probability that the row's answer (a partner, or none) is right.
 
+mod coincidence;
 mod costs;
+mod noise;
 mod params;
 mod search;
 mod side;
@@ -16,7 +18,7 @@ use crate::{Params, Problem, Solution, hungarian_max};
 
 use costs::Costs;
 pub use params::RigidParams;
-use search::search;
+use search::{chance_inliers, explained, rescore, score_of, search};
 
 /// Score of a column a row must never take in the padded assignment.
 const FORBIDDEN: f64 = -1e12;
@@ -25,9 +27,32 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     let rp = &params.rigid;
     let (n, m) = (problem.n, problem.m);
     let spacing = median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
-    let log_g = appearance_log_likelihood(problem, rp.appearance_temperature);
-    let costs = Costs::new(problem, &log_g, spacing, rp);
-    let found = search(&costs, costs.typical, rp);
+    let log_g = appearance_log_likelihood(problem, rp.appearance_temperature, rp.appearance_floor);
+    let mut costs = Costs::new(problem, &log_g, spacing, rp);
+    let seeds = consistency_seed(problem, params, costs.typical);
+    let mut found = search(&costs, costs.typical, rp, &seeds);
+    // The noise this scene shows under its best motion replaces the
+    // assumed one, and the kept motions are judged again under it; again,
+    // since pairs the assumed scales cut off count once the scales widen.
+    if rp.noise_prior > 0.0
+        && let Some(prior) = costs.rays.as_ref().map(|r| r.noise)
+    {
+        for _ in 0..rp.noise_rounds {
+            let Some(f) = &found else { break };
+            let pairs = explained(&costs, rp, &f.motion);
+            let Some(noise) = noise::estimate(&costs, &f.motion, &pairs, prior, rp.noise_prior)
+            else {
+                break;
+            };
+            let adapted = costs.with_noise(noise);
+            let settled = f.settled;
+            let Some(again) = rescore(&adapted, rp, &f.kept, f.tests) else {
+                break;
+            };
+            costs = adapted;
+            found = Some(search::Found { settled, ..again });
+        }
+    }
     let mut motion = found.as_ref().map(|f| f.motion);
     let mut cost = costs.matrix(motion.as_ref());
     let mut assignment = assign(&cost, n, m, rp.unmatched_cost);
@@ -51,6 +76,22 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         }
     }
     let (soft, unmatched) = row_shares(&cost, n, m, rp.unmatched_cost);
+    // How far the motion stands above what chance explains in a view of
+    // this scene that no motion explains: the calibration weighs it.
+    let margin = match &found {
+        Some(f) if rp.chance_samples > 0 && !f.settled => {
+            let best = motion.as_ref().unwrap_or(&f.motion);
+            let null = coincidence::null_view(problem, rp.seed);
+            let mut null_costs = Costs::new(&null, &log_g, spacing, rp);
+            if let Some(noise) = costs.rays.as_ref().map(|r| r.noise) {
+                null_costs = null_costs.with_noise(noise);
+            }
+            let chance = chance_inliers(&null_costs, rp, rp.chance_samples, None);
+            coincidence::margin(&chance, score_of(&costs, rp, best), f.tests)
+        }
+        _ => None,
+    }
+    .unwrap_or(f64::INFINITY);
 
     // The rival motions: each is weighed against the best by its score,
     // and a row's answer is only as sure as the motions that give it.
@@ -111,7 +152,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         confidence[i] = raw;
     }
     for (c, a) in confidence.iter_mut().zip(&assignment) {
-        *c = rp.calibration.probability(*c, a.is_none());
+        *c = rp.calibration.probability(*c, a.is_none(), margin);
     }
     Solution {
         soft,
@@ -120,17 +161,41 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         iterations,
         converged,
         motion,
+        margin: margin.is_finite().then_some(margin),
     }
+}
+
+/// The motion of the densest consistent cluster of candidate pairs
+/// (`clipper`, with the distance tolerance of rigid's own typical pair
+/// scale rather than the published methods' bandwidth), as one more
+/// hypothesis; none above `clipper_seed_pairs` candidate pairs, where the
+/// cluster search costs more than the live budget allows.
+fn consistency_seed(problem: &Problem, params: &Params, typical: f64) -> Vec<RigidMotion> {
+    let rp = &params.rigid;
+    if problem.n * problem.m > rp.clipper_seed_pairs || problem.n < 3 || problem.m < 3 {
+        return Vec::new();
+    }
+    let own = Params {
+        beta: 2.0 * typical * typical,
+        ..*params
+    };
+    let cluster = super::clipper::solve(problem, &own);
+    fit_assigned(problem, &cluster.assignment)
+        .into_iter()
+        .collect()
 }
 
 /// `(a - max of the row) / temperature`: the log of an appearance
 /// likelihood relative to the row's best; all 0 without features.
-fn appearance_log_likelihood(problem: &Problem, temperature: f64) -> Vec<f64> {
+fn appearance_log_likelihood(problem: &Problem, temperature: f64, floor: f64) -> Vec<f64> {
     let m = problem.m;
     let mut out = Vec::with_capacity(problem.len());
     for row in problem.appearance.chunks(m) {
         let best = row.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        out.extend(row.iter().map(|&a| (a - best) / temperature));
+        out.extend(
+            row.iter()
+                .map(|&a| ((1.0 - floor) * ((a - best) / temperature).exp() + floor).ln()),
+        );
     }
     out
 }

@@ -12,6 +12,11 @@ pub struct RigidParams {
     /// Appearance enters as `exp((a - best a of the row) / temperature)`:
     /// a likelihood relative to the row's most similar object.
     pub appearance_temperature: f64,
+    /// Share of true pairs whose appearance differs between the views
+    /// however similar the objects look from one side (a mug's handle, a
+    /// label seen from behind): the appearance likelihood never falls
+    /// below it, so appearance can weaken a pair but not veto it.
+    pub appearance_floor: f64,
     /// Robot objects per human object that hypotheses are drawn from,
     /// the most similar in appearance first.
     pub candidates: usize,
@@ -39,6 +44,16 @@ pub struct RigidParams {
     /// distance (smaller than `sigma_factor`, which must cover the depth
     /// error too).
     pub lateral_factor: f64,
+    /// The ray model's scales are estimated from the residuals the best
+    /// motion leaves, with the assumed (or stated) scales as a prior worth
+    /// this many pairs; 0 keeps the assumed scales.
+    pub noise_prior: f64,
+    /// Heavy tails of the residuals (the ray model): a squared Mahalanobis
+    /// length `d^2` costs `tail / 2 ln(1 + d^2 / tail)`; 0 the Gaussian's
+    /// `d^2 / 2`.
+    pub tail: f64,
+    /// Rounds of that estimate, each from the pairs the last one explains.
+    pub noise_rounds: usize,
 
     /// Cost of leaving a human object without a partner, in the units of
     /// the pair cost `-ln(appearance likelihood) + r^2 / (2 sigma^2)`.
@@ -85,6 +100,15 @@ pub struct RigidParams {
     /// Refuse motions that put the two cameras on opposite sides of the
     /// plane the objects stand on (see `Side`).
     pub same_side: bool,
+    /// Hypotheses drawn to measure how many pairs a motion explains by
+    /// chance in the scene; a partner is only as sure as the best motion is
+    /// unlike chance (0: not measured, every motion taken as real).
+    pub chance_samples: usize,
+    /// The densest consistent cluster of candidate pairs (`clipper`) gives
+    /// the search one more hypothesis in scenes of at most this many
+    /// pairs (n x m); 0 never.
+    pub clipper_seed_pairs: usize,
+
     /// Seed of the hypothesis sampler (answers are deterministic).
     pub seed: u64,
     /// Raw row share and fit quality to probability.
@@ -94,13 +118,17 @@ pub struct RigidParams {
 impl Default for RigidParams {
     fn default() -> Self {
         Self {
-            appearance_temperature: 0.1,
+            appearance_temperature: 0.2,
+            appearance_floor: 0.1,
             candidates: 6,
             hypotheses: 200,
             sigma_factor: 0.4,
             stated_errors: true,
             depth_error: 0.065,
             lateral_factor: 0.2,
+            noise_prior: 3.0,
+            tail: 6.0,
+            noise_rounds: 1,
             unmatched_cost: 4.5,
             decisive_share: 0.8,
             decisive_after: 100,
@@ -113,6 +141,9 @@ impl Default for RigidParams {
             abstain_motion: 0.95,
             never_empty: true,
             same_side: true,
+            chance_samples: 32,
+            clipper_seed_pairs: 0,
+
             seed: 0x5eed,
             calibration: Calibration::default(),
         }
@@ -149,6 +180,27 @@ impl RigidParams {
                 });
             }
         }
+        if !(self.tail == 0.0 || (self.tail.is_finite() && self.tail > 0.0)) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.tail",
+                value: self.tail,
+                expected: "0 or positive and finite",
+            });
+        }
+        if !(0.0..1.0).contains(&self.appearance_floor) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.appearance_floor",
+                value: self.appearance_floor,
+                expected: "in [0, 1)",
+            });
+        }
+        if !(self.noise_prior.is_finite() && self.noise_prior >= 0.0) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.noise_prior",
+                value: self.noise_prior,
+                expected: "zero or positive and finite",
+            });
+        }
         if !(self.depth_error.is_finite() && self.depth_error >= 0.0) {
             return Err(MatchError::BadParameter {
                 name: "rigid.depth_error",
@@ -171,9 +223,15 @@ impl RigidParams {
             });
         }
         let c = &self.calibration;
-        if ![c.bias, c.slope, c.no_partner_shift]
-            .iter()
-            .all(|v| v.is_finite())
+        if ![
+            c.bias,
+            c.slope,
+            c.no_partner_shift,
+            c.partner_margin,
+            c.none_margin,
+        ]
+        .iter()
+        .all(|v| v.is_finite())
         {
             return Err(MatchError::BadParameter {
                 name: "rigid.calibration",

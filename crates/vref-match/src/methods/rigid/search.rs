@@ -12,16 +12,23 @@ use crate::rigid::RigidMotion;
 /// Minimal samples tried per hypothesis scored; most fail the cheap
 /// distance check, so this bounds the search when nothing is consistent.
 const ATTEMPTS_PER_HYPOTHESIS: usize = 50;
-/// Robot objects this much below a row's best appearance log-likelihood
-/// (a tenth of its likelihood) are still candidates.
-const CANDIDATE_LOG_GAP: f64 = std::f64::consts::LN_10;
+/// Robot objects whose appearance affinity is this much below the row's
+/// best are still candidates (a tenth of the likelihood at the
+/// temperature this was chosen with, 0.1); in affinity units, so that the
+/// temperature weighs appearance without widening the search.
+const CANDIDATE_GAP: f64 = 0.1 * std::f64::consts::LN_10;
 /// Re-fits per locally optimised hypothesis (each must raise its score).
 const LOCAL_REFITS: usize = 3;
 
 /// The best-scoring proper motion among hypotheses fitted to three
 /// distance-consistent candidate pairs; `None` when either view has fewer
 /// than three objects or no sample is consistent.
-pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<Found> {
+pub(super) fn search(
+    costs: &Costs<'_>,
+    sigma: f64,
+    rp: &RigidParams,
+    seeds: &[RigidMotion],
+) -> Option<Found> {
     let problem = costs.problem;
     let (n, m) = (problem.n, problem.m);
     if n < 3 || m < 3 {
@@ -34,7 +41,7 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
     // same hypotheses and gives the same answer.
     let human_order = position_order(hp);
     let robot_rank = ranks(&position_order(rpos));
-    let mut candidates = candidate_columns(costs.log_g, n, m, rp.candidates);
+    let mut candidates = candidate_columns(costs.log_g, n, m, rp);
     for row in &mut candidates {
         row.sort_by_key(|&col| robot_rank[col]);
     }
@@ -57,6 +64,8 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
     // without them to fill the kept few.
     let keep = rp.local_optimisations.max(1);
     let mut settled = false;
+    // Hypotheses scored in the rounds kept: the tests a coincidence had.
+    let mut tests = 0;
     // Rounds of (distance tolerance, shortest edge, shortcut). Under the
     // depth-error model the tolerance must admit errors along the rays that
     // are large against the spacing, which leaves guided sampling little to
@@ -128,16 +137,174 @@ pub(super) fn search(costs: &Costs<'_>, sigma: f64, rp: &RigidParams) -> Option<
         }
         if shortcut && !settled {
             top.clear();
+        } else {
+            tests += scored;
+        }
+    }
+    // Motions found otherwise (the consistency graph's cluster) compete
+    // with the sampled ones on the same score.
+    for seed in seeds {
+        if let Some((score, _)) = greedy(
+            costs,
+            seed,
+            rp.unmatched_cost,
+            f64::NEG_INFINITY,
+            &mut scratch,
+        ) {
+            keep_best(&mut top, keep, score, *seed, same);
         }
     }
     let refined = optimise_locally(costs, rp, top, &mut scratch);
+    found(costs, rp, refined, same, &mut scratch, tests).map(|f| Found { settled, ..f })
+}
+
+/// What a motion drawn by the sampler scores by chance in this scene: the
+/// scores of up to `samples` drawn hypotheses after the same local
+/// optimisation the best motion had. Hypotheses that are the best motion
+/// again are left out: in a scene with a right motion they are not
+/// chance, and in one without they are few. Most drawn hypotheses are
+/// wrong, so the scores sample the null the best motion is tested against.
+pub(super) fn chance_inliers(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    samples: usize,
+    best: Option<&RigidMotion>,
+) -> Vec<f64> {
+    let problem = costs.problem;
+    let (n, m) = (problem.n, problem.m);
+    if n < 3 || m < 3 {
+        return Vec::new();
+    }
+    let hp = &problem.human_positions;
+    let rpos = &problem.robot_positions;
+    let human_order = position_order(hp);
+    let robot_rank = ranks(&position_order(rpos));
+    let mut candidates = candidate_columns(costs.log_g, n, m, rp);
+    for row in &mut candidates {
+        row.sort_by_key(|&col| robot_rank[col]);
+    }
+    let tolerance = 3.0 * costs.typical;
+    let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
+        let dh = (hp[i] - hp[j]).norm();
+        let dr = (rpos[a] - rpos[b]).norm();
+        i != j && a != b && (dh - dr).abs() <= tolerance
+    };
+    let probes = probe_points(hp);
+    let side = Side::of(rpos);
+    let mut rng = SplitMix(rp.seed.rotate_left(17) ^ ((n as u64) << 32) ^ m as u64);
+    let mut consistent = Vec::with_capacity(m);
+    let mut scratch = Scratch::default();
+    let mut counts = Vec::with_capacity(samples);
+    let mut drawn = 0;
+    for _ in 0..samples.saturating_mul(ATTEMPTS_PER_HYPOTHESIS) {
+        if drawn >= samples {
+            break;
+        }
+        let Some(s) = draw_sample(&mut rng, &human_order, &candidates, &fits, &mut consistent)
+        else {
+            continue;
+        };
+        let from = s.map(|(i, _)| hp[i]);
+        let to = s.map(|(_, j)| rpos[j]);
+        let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
+            continue;
+        };
+        if rp.same_side && !side.allows(&motion) {
+            continue;
+        }
+        drawn += 1;
+        let Some((score, _)) = greedy(
+            costs,
+            &motion,
+            rp.unmatched_cost,
+            f64::NEG_INFINITY,
+            &mut scratch,
+        ) else {
+            continue;
+        };
+        let refined = optimise_locally(costs, rp, vec![(score, motion)], &mut scratch);
+        let Some(&(_, motion)) = refined.first() else {
+            continue;
+        };
+        if best.is_some_and(|b| same_motion(&motion, b, &probes, 2.0 * costs.typical)) {
+            continue;
+        }
+        counts.push(score_of(costs, rp, &motion));
+    }
+    counts
+}
+
+/// The search's kept motions judged again under `costs` (the same scene
+/// with other noise scales): each re-fitted to what it explains there, the
+/// best chosen, its rivals weighed. `tests` is the search's count.
+pub(super) fn rescore(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    motions: &[RigidMotion],
+    tests: usize,
+) -> Option<Found> {
+    let mut scratch = Scratch::default();
+    let top = motions
+        .iter()
+        .filter_map(|m| {
+            greedy(costs, m, rp.unmatched_cost, f64::NEG_INFINITY, &mut scratch)
+                .map(|(score, _)| (score, *m))
+        })
+        .collect();
+    let refined = optimise_locally(costs, rp, top, &mut scratch);
+    let probes = probe_points(&costs.problem.human_positions);
+    let tolerance = 2.0 * costs.typical;
+    let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, tolerance);
+    found(costs, rp, refined, same, &mut scratch, tests)
+}
+
+fn found(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    refined: Vec<(f64, RigidMotion)>,
+    same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
+    scratch: &mut Scratch,
+    tests: usize,
+) -> Option<Found> {
     let &(score, motion) = refined.first()?;
-    let alternatives = rivals(costs, rp, &motion, &refined, same, &mut scratch);
+    let alternatives = rivals(costs, rp, &motion, &refined, same, scratch);
     Some(Found {
         motion,
         score,
         alternatives,
+        kept: refined.into_iter().map(|(_, m)| m).collect(),
+        tests,
+        settled: false,
     })
+}
+
+/// The search's score of `motion` (its greedy gain over "no partner").
+pub(super) fn score_of(costs: &Costs<'_>, rp: &RigidParams, motion: &RigidMotion) -> f64 {
+    greedy(
+        costs,
+        motion,
+        rp.unmatched_cost,
+        f64::NEG_INFINITY,
+        &mut Scratch::default(),
+    )
+    .map_or(0.0, |(s, _)| s)
+}
+
+/// The pairs `motion` explains, by the search's greedy assignment.
+pub(super) fn explained(
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    motion: &RigidMotion,
+) -> Vec<(usize, usize)> {
+    greedy(
+        costs,
+        motion,
+        rp.unmatched_cost,
+        f64::NEG_INFINITY,
+        &mut Scratch::default(),
+    )
+    .map(|(_, p)| p)
+    .unwrap_or_default()
 }
 
 /// One sample of three candidate pairs, by guided sampling: the second and
@@ -255,6 +422,15 @@ pub(super) struct Found {
     pub(super) motion: RigidMotion,
     pub(super) score: f64,
     pub(super) alternatives: Vec<(f64, RigidMotion)>,
+    /// Every motion the search kept, best first.
+    pub(super) kept: Vec<RigidMotion>,
+    /// Hypotheses the search scored (the shortcut round's only when it
+    /// settled the scene).
+    pub(super) tests: usize,
+    /// Whether a decisive motion ended the search (explaining nearly every
+    /// object nearly perfectly after enough hypotheses for the scene's
+    /// size): chance does not reach that, and is not measured.
+    pub(super) settled: bool,
 }
 
 /// Inserts `(score, motion)` into `top`, which holds the `k` best
@@ -378,9 +554,14 @@ fn fit_pairs(problem: &Problem, pairs: &[(usize, usize)]) -> Option<RigidMotion>
 
 /// For each human object, the robot objects that hypotheses may pair it
 /// with, most similar first: its `k` most similar, and every other whose
-/// appearance likelihood is within [`CANDIDATE_LOG_GAP`] of the best (all
+/// appearance likelihood is within [`CANDIDATE_GAP`] of the best in affinity (all
 /// of them when appearance tells nothing, as without features).
-fn candidate_columns(log_g: &[f64], n: usize, m: usize, k: usize) -> Vec<Vec<usize>> {
+fn candidate_columns(log_g: &[f64], n: usize, m: usize, rp: &RigidParams) -> Vec<Vec<usize>> {
+    let k = rp.candidates;
+    // The gap is of the likelihood before its floor (the floor keeps a
+    // pair's cost bounded; it must not make every object a candidate).
+    let floor = rp.appearance_floor;
+    let gap = ((1.0 - floor) * (-CANDIDATE_GAP / rp.appearance_temperature).exp() + floor).ln();
     (0..n)
         .map(|i| {
             let row = &log_g[i * m..(i + 1) * m];
@@ -389,7 +570,7 @@ fn candidate_columns(log_g: &[f64], n: usize, m: usize, k: usize) -> Vec<Vec<usi
             let keep = order
                 .iter()
                 .enumerate()
-                .take_while(|&(rank, &j)| rank < k || row[j] >= -CANDIDATE_LOG_GAP)
+                .take_while(|&(rank, &j)| rank < k || row[j] >= gap)
                 .count();
             order.truncate(keep.max(1));
             order
@@ -453,7 +634,7 @@ impl SplitMix {
         z ^ (z >> 31)
     }
 
-    fn below(&mut self, bound: usize) -> usize {
+    pub(super) fn below(&mut self, bound: usize) -> usize {
         (self.next() % bound.max(1) as u64) as usize
     }
 }
