@@ -49,7 +49,10 @@ fn every_method_runs_on_imported_bop_scenes_and_rigid_reaches_the_target() {
             .iter()
             .map(|l| l["method"].as_str().unwrap())
             .collect();
-        assert_eq!(methods, ["appearance", "sm", "rrwm", "paper", "rigid"]);
+        assert_eq!(
+            methods,
+            ["appearance", "sm", "rrwm", "paper", "rigid", "clipper"]
+        );
         let rigid = &lines[4];
         for figure in ["accuracy", "precision"] {
             let value = rigid[figure].as_f64().unwrap();
