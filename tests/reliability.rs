@@ -309,6 +309,46 @@ fn a_query_waiting_through_a_matcher_restart_is_answered_by_the_new_one() {
     wait_ok(&mut client);
 }
 
+/// SIGSTOP then SIGCONT (a debugger, `kill -STOP`, a suspended terminal)
+/// cut the services' waits short without asking them to stop: they go
+/// on answering from new snapshots, and SIGTERM still stops them.
+#[test]
+fn stopped_and_continued_services_keep_running() {
+    let (mut h, ipc, source) = table_harness_with("cont", "", "");
+    start_all(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    wait_ok(&mut client);
+    let before = ask(&mut client, 1).unwrap().robot_sequence;
+    let names = ["matcher", "perception", "gesture"];
+    for _ in 0..3 {
+        for name in names {
+            h.signal(name, Signal::SIGSTOP);
+        }
+        std::thread::sleep(Duration::from_millis(200));
+        for name in names {
+            h.signal(name, Signal::SIGCONT);
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    for name in names {
+        assert!(h.running(name), "{name} exited:\n{}", h.log(name));
+    }
+    eventually(
+        Duration::from_secs(10),
+        "an ok answer from a newer snapshot",
+        || {
+            let answer = ask(&mut client, 1)?;
+            (answer.status() == AnswerStatus::Ok && answer.robot_sequence > before).then_some(())
+        },
+    );
+    for name in names {
+        h.signal(name, Signal::SIGTERM);
+        let status = h.wait(name, Duration::from_secs(10));
+        assert_eq!(status.code(), Some(0), "{name}:\n{}", h.log(name));
+    }
+}
+
 /// Sends requests as fast as it can and never reads an answer.
 fn flood(ipc: &IpcSettings, stop: &AtomicBool, sent: &AtomicU64) {
     let node = create_node(ipc, "test-flooder").unwrap();

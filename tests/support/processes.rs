@@ -93,6 +93,12 @@ impl Harness {
         }
     }
 
+    /// Whether `name` has not exited.
+    pub fn running(&mut self, name: &str) -> bool {
+        let index = self.index(name);
+        self.children[index].1.try_wait().unwrap().is_none()
+    }
+
     /// SIGKILL, then reap.
     pub fn kill(&mut self, name: &str) {
         self.signal(name, Signal::SIGKILL);

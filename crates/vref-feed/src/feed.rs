@@ -4,7 +4,9 @@ use std::time::Duration;
 
 use vref_config::Config;
 
-use vref_wire::ipc::{GesturePublisher, IpcSettings, Node, SnapshotPublisher, create_node, now_ns};
+use vref_wire::ipc::{
+    GesturePublisher, IpcSettings, Node, SnapshotPublisher, create_node, nap, now_ns,
+};
 
 use crate::args::{FeedArgs, SourceSpec};
 use crate::bop::{BopSource, BopWorld};
@@ -233,7 +235,7 @@ impl Source {
 fn wait_until(node: &Node, at_ns: u64) -> bool {
     let mut remaining = Duration::from_nanos(at_ns.saturating_sub(now_ns()));
     loop {
-        if node.wait(remaining.min(MAX_NAP)).is_err() {
+        if !nap(node, remaining.min(MAX_NAP)) {
             return false;
         }
         remaining = Duration::from_nanos(at_ns.saturating_sub(now_ns()));

@@ -34,7 +34,7 @@ fn main() {
     let mut rays = GesturePublisher::new(&node, &ipc).unwrap();
     let humans = valid_objects(Side::Human);
     let mut solve = 0;
-    while node.wait(Duration::from_millis(100)).is_ok() {
+    while vref_wire::ipc::nap(&node, Duration::from_millis(100)) {
         solve += 1;
         let header = DecisionHeader {
             solve_index: solve,

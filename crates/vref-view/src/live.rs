@@ -17,13 +17,12 @@ use std::time::{Duration, Instant};
 use foxglove::messages::Timestamp;
 use foxglove::{Context, McapCompression, McapWriteOptions};
 use iceoryx2::prelude::*;
-use iceoryx2::waitset::WaitSetRunResult;
 use vref_record::WireChannel;
 use vref_scene::Side;
 use vref_wire::bytes::{put_sample, to_bytes};
 use vref_wire::ipc::{
     Decision, IpcSettings, ReferenceClient, create_node, now_ns, open_decision, open_gesture,
-    open_snapshot, open_stats,
+    open_snapshot, open_stats, termination_requested,
 };
 
 use crate::channels::{Channels, is_wire};
@@ -296,7 +295,7 @@ fn watch(
         }
         let wait = end.map_or(TICK, |end| (end - now).min(TICK));
         match waitset.wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, wait) {
-            Ok(WaitSetRunResult::TerminationRequest | WaitSetRunResult::Interrupt) => break None,
+            Ok(result) if termination_requested(&result) => break None,
             Ok(_) => {}
             Err(e) => break Some(ViewError::iceoryx("waiting")(&e)),
         }

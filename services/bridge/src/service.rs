@@ -14,7 +14,7 @@ use vref_bridge::{
     open_bridge_session,
 };
 use vref_config::Config;
-use vref_wire::ipc::{create_node, now_ns};
+use vref_wire::ipc::{create_node, nap, now_ns};
 use zenoh::Wait;
 
 /// How often the bridge publishes its counters on Zenoh.
@@ -154,7 +154,7 @@ pub fn run(config: &Config) -> Result<(), Failure> {
     let mut last_stats = Instant::now();
     let mut last_report = Instant::now();
     let mut failure = None;
-    while node.wait(POLL).is_ok() {
+    while nap(&node, POLL) {
         if let Some((name, _)) = threads.iter().find(|(_, t)| t.is_finished()) {
             failure = Some(anyhow!("the {name} thread stopped"));
             break;

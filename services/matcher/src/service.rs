@@ -5,6 +5,7 @@ use anyhow::{Context, anyhow};
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
+use iceoryx2::waitset::WaitSetRunResult;
 use vref_config::Config;
 use vref_reference::{Now, Placement, QueryRate, ReferenceState, RejectReason, Rejected, Solver};
 use vref_scene::Side;
@@ -208,9 +209,15 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
         }
         CallbackProgression::Continue
     };
-    let result = waitset
-        .wait_and_process(on_event)
-        .map_err(|e| anyhow!("waiting: {e:?}"));
+    // A signal that asks nothing (SIGCONT after SIGSTOP) ends a run as
+    // `Interrupt`: the matcher goes on, and stops on a termination request.
+    let mut on_event = on_event;
+    let result = loop {
+        match waitset.wait_and_process(&mut on_event) {
+            Ok(WaitSetRunResult::Interrupt) => continue,
+            other => break other.map_err(|e| anyhow!("waiting: {e:?}")),
+        }
+    };
     solver_thread.stop();
     let result = result?;
     tracing::info!(

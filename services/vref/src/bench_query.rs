@@ -20,6 +20,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, anyhow, bail};
 use iceoryx2::prelude::*;
+use iceoryx2::waitset::WaitSetRunResult;
 use vref_config::Config;
 use vref_feed::synthetic_world;
 use vref_scene::Side;
@@ -560,9 +561,13 @@ fn serve_echo(ipc: &IpcSettings) -> anyhow::Result<()> {
         }
         CallbackProgression::Continue
     };
-    let result = waitset
-        .wait_and_process(on_event)
-        .map_err(|e| anyhow!("waiting: {e:?}"))?;
+    let mut on_event = on_event;
+    let result = loop {
+        match waitset.wait_and_process(&mut on_event) {
+            Ok(WaitSetRunResult::Interrupt) => continue,
+            other => break other.map_err(|e| anyhow!("waiting: {e:?}"))?,
+        }
+    };
     tracing::info!(?result, served, "echo server stopped");
     Ok(())
 }

@@ -4,12 +4,11 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, anyhow};
 use iceoryx2::prelude::*;
-use iceoryx2::waitset::WaitSetRunResult;
 use vref_config::Config;
 use vref_record::{Frame, RecordedRay, RecordedSnapshot, RecordingWriter};
 use vref_scene::Side;
 use vref_view::ViewOptions;
-use vref_wire::ipc::{create_node, open_gesture, open_snapshot};
+use vref_wire::ipc::{create_node, open_gesture, open_snapshot, termination_requested};
 
 use crate::cli::RecordArgs;
 use crate::failure::{Blame, Failure};
@@ -138,10 +137,7 @@ fn record(
         let result = waitset
             .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, wait)
             .map_err(|e| err("waiting")(&e))?;
-        if matches!(
-            result,
-            WaitSetRunResult::TerminationRequest | WaitSetRunResult::Interrupt
-        ) {
+        if termination_requested(&result) {
             break;
         }
         for l in &listeners {

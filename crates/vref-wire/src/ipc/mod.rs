@@ -17,7 +17,7 @@ pub use client::ReferenceClient;
 pub use decision::{Decision, DecisionError, DecisionPublisher, DecisionReader};
 pub use error::IpcError;
 pub use names::ServiceNames;
-pub use node::{Node, create_node, now_ns};
+pub use node::{Node, create_node, nap, now_ns, termination_requested};
 pub use publishers::{GesturePublisher, SnapshotPublisher};
 pub use server::{ClientId, ReferenceServer, Served, answer_waiting};
 pub use services::{

@@ -1,5 +1,8 @@
 use std::os::unix::ffi::OsStrExt;
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use iceoryx2::node::NodeWaitFailure;
+use iceoryx2::waitset::WaitSetRunResult;
 
 use iceoryx2::prelude::*;
 
@@ -40,6 +43,30 @@ pub fn create_node(settings: &IpcSettings, name: &str) -> Result<Node, IpcError>
         .signal_handling_mode(SignalHandlingMode::HandleTerminationRequests)
         .create::<ipc::Service>()
         .map_err(|e| iceoryx_err(format!("creating node {name}"), e))
+}
+
+/// Sleeps up to `cycle` on the node; `false` once a termination request
+/// (SIGINT, SIGTERM) arrived. Other signals (SIGCONT after SIGSTOP,
+/// SIGCHLD, SIGWINCH) cut the sleep short without asking anything, and a
+/// service must keep running through them: iceoryx2 reports both as
+/// failures of `wait`, and only the termination request is sticky.
+pub fn nap(node: &Node, cycle: Duration) -> bool {
+    match node.wait(cycle) {
+        Ok(()) => true,
+        Err(NodeWaitFailure::TerminationRequest) => false,
+        Err(NodeWaitFailure::Interrupt) => !matches!(
+            node.wait(Duration::ZERO),
+            Err(NodeWaitFailure::TerminationRequest)
+        ),
+    }
+}
+
+/// Whether a WaitSet's run ended because the process was asked to stop.
+/// `Interrupt` is any signal that cut the wait short: a SIGINT is
+/// reported as `TerminationRequest` on the next run, so only that one
+/// stops.
+pub fn termination_requested(result: &WaitSetRunResult) -> bool {
+    matches!(result, WaitSetRunResult::TerminationRequest)
 }
 
 /// iceoryx2's configuration before vref's `[ipc]` overrides: the named
