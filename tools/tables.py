@@ -1,0 +1,290 @@
+#!/usr/bin/env python3
+"""Rewrites the marked tables of markdown files from docs/results/.
+
+A table is a block
+
+    <!-- table: KIND FILE [ARG] -->
+    ...whatever was there...
+    <!-- /table -->
+
+and its contents are replaced by the table KIND makes from FILE (a path
+from the repository root), headed by the file's name and the run that
+wrote it (docs/results/run.json). A file or row that is missing gives a
+visible "not measured" line, never an old figure.
+
+    python3 tools/tables.py README.md docs/*.md     # rewrite in place
+    python3 tools/tables.py --check README.md ...   # exit 1 if any would change
+"""
+import json
+import os
+import re
+import sys
+
+BLOCK = re.compile(r"(<!-- table: (?P<spec>[^>]*?) -->\n)(?P<body>.*?)(<!-- /table -->)", re.S)
+FAMILIES = {"moi": "vref-sim moi (table top)", "mrc": "vref-sim mrc (floor)",
+            "moi-ext-report": "external moi-ext", "mrc-ext-report": "external mrc-ext",
+            "bop-table-report": "rendered BOP table", "bop-floor-report": "rendered BOP floor"}
+
+
+def lines(path):
+    """A file of one JSON value (a list is its rows) or of JSON lines."""
+    with open(path) as f:
+        text = f.read().strip()
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError:
+        return [json.loads(l) for l in text.splitlines() if l.strip()]
+    return value if isinstance(value, list) else [value]
+
+
+def run_note():
+    path = "docs/results/run.json"
+    if not os.path.exists(path):
+        return ""
+    r = lines(path)[0]
+    return (f"; {r['mode']} run of {r['date']}, commit {r['commit']}, {r['cores']} cores "
+            f"({r['cpu']}), load {r['load_at_start']} at the start")
+
+
+def name(dataset):
+    return os.path.basename(dataset).replace(".jsonl", "")
+
+
+def ms(us):
+    if us is None:
+        return "-"
+    if us >= 1e6:
+        return f"{us / 1e6:.2f} s"
+    return f"{us / 1000:.2f} ms" if us >= 1000 else f"{us:.0f} us"
+
+
+def method_table(rows, _arg):
+    out = ["| set | method | accuracy | precision | recall | ECE | mean solve |",
+           "|---|---|---|---|---|---|---|"]
+    for dataset in dict.fromkeys(r["dataset"] for r in rows):
+        these = [r for r in rows if r["dataset"] == dataset]
+        for i, r in enumerate(these):
+            bold = "**" if r["method"] == "rigid" else ""
+            out.append(f"| {name(dataset) if i == 0 else ''} | {bold}{r['method']}{bold} | "
+                       f"{r['accuracy']:.3f} | {r['precision']:.3f} | {r['recall']:.3f} | "
+                       f"{r['ece']:.3f} | {r['mean_solve_us'] / 1000:.2f} ms |")
+        rigid = [r for r in these if r["method"] == "rigid"]
+        others = [r["accuracy"] for r in these if r["method"] != "rigid"]
+        if rigid and others:
+            out.append(f"|  | rigid - best other | {rigid[0]['accuracy'] - max(others):+.3f} | | | | |")
+    return out
+
+
+def coincidence_table(rows, _arg):
+    out = ["| unrelated views | answers | with a partner | ok (partner, confidence >= 0.5) |",
+           "|---|---|---|---|"]
+    total = [0, 0, 0]
+    for r in sorted(rows, key=lambda r: r["dataset"]):
+        out.append(f"| {name(r['dataset'])} | {r['answers']} | {r['partners']} | "
+                   f"{r['ok']} ({100 * r['ok_share']:.1f}%) |")
+        total = [total[0] + r["answers"], total[1] + r["partners"], total[2] + r["ok"]]
+    out.append(f"| all | {total[0]} | {total[1]} | {total[2]} ({100 * total[2] / max(1, total[0]):.1f}%) |")
+    return out
+
+
+def accuracy_table(_rows, _arg):
+    """The README's headline: rigid against the best other method, per family."""
+    rows = []
+    for file in ["method-vrefsim.json", "method-external.json", "method-bop.json"]:
+        path = os.path.join("docs/results", file)
+        if os.path.exists(path):
+            rows += [dict(r, file=file) for r in lines(path)]
+    groups = {}
+    for r in rows:
+        key = re.sub(r"\d+$", "", name(r["dataset"]))
+        groups.setdefault((key, r["file"]), []).append(r)
+    out = ["| held-out set | scenes | `rigid` accuracy / precision / ECE | best other method | file |",
+           "|---|---|---|---|---|"]
+    for (key, file), these in groups.items():
+        by_method = {}
+        for r in these:
+            by_method.setdefault(r["method"], []).append(r)
+
+        def mean(method, field):
+            rs = by_method[method]
+            return sum(r[field] * r["scenes"] for r in rs) / sum(r["scenes"] for r in rs)
+        if "rigid" not in by_method:
+            continue
+        best = max((m for m in by_method if m != "rigid"), key=lambda m: mean(m, "accuracy"))
+        sets = len(by_method["rigid"])
+        scenes = sum(r["scenes"] for r in by_method["rigid"])
+        label = FAMILIES.get(key, key) + (f", {sets} sets" if sets > 1 else "")
+        out.append(f"| {label} | {scenes} | {mean('rigid', 'accuracy'):.3f} / "
+                   f"{mean('rigid', 'precision'):.3f} / {mean('rigid', 'ece'):.3f} | "
+                   f"{best} {mean(best, 'accuracy'):.3f} | `docs/results/{file}` |")
+    return out
+
+
+def cmu_table(rows, _arg):
+    gaps = sorted({r["gap"] for r in rows})
+    out = ["| method | " + " | ".join(f"gap {g}" for g in gaps) + " |", "|---|" + "---|" * len(gaps)]
+    for method in dict.fromkeys(r["method"] for r in rows):
+        cells = {r["gap"]: r["accuracy"] for r in rows if r["method"] == method}
+        out.append(f"| {method} | " + " | ".join(f"{cells[g]:.3f}" if g in cells else "-" for g in gaps) + " |")
+    return out
+
+
+def solver_table(rows, _arg):
+    sizes = sorted({r["objects"] for r in rows})
+    out = ["| method | tier | mode | " + " | ".join(str(s) for s in sizes) + " |",
+           "|---|---|---|" + "---|" * len(sizes)]
+    table = {}
+    for r in rows:
+        table.setdefault((r["method"], r["tier"], r["mode"]), {})[r["objects"]] = r
+    for (method, tier, mode), by_size in table.items():
+        cells = [f"{ms(by_size[s]['median_us'])} ({ms(by_size[s]['p99_us'])})" if s in by_size else "not run"
+                 for s in sizes]
+        out.append(f"| {method} | {tier} | {mode} | " + " | ".join(cells) + " |")
+    return out
+
+
+def percentiles(r, prefixes):
+    out = ["| round trip | count | p50 | p99 | p99.9 |", "|---|---|---|---|---|"]
+    for prefix, label in prefixes:
+        if f"{prefix}_p50_us" not in r:
+            continue
+        count = r.get(f"{prefix}_count", "")
+        p999 = r.get(f"{prefix}_p999_us")
+        out.append(f"| {label} | {count} | {ms(r[prefix + '_p50_us'])} | {ms(r[prefix + '_p99_us'])} | "
+                   f"{ms(p999) if p999 is not None else '-'} |")
+    return out
+
+
+def query_table(rows, _arg):
+    r = rows[0]
+    out = percentiles(r, [("cached", "matcher, answer from the current solution"),
+                          ("solve", "matcher, first answer from a new solution"),
+                          ("all", "matcher, every answer"),
+                          ("bare", "bare iceoryx2 echo server")])
+    if "idle_all_p99_us" in r:
+        out.append(f"| idle matcher (feeds stopped), every answer | | {ms(r['idle_all_p50_us'])} | "
+                   f"{ms(r['idle_all_p99_us'])} | - |")
+        out.append(f"| idle phase, bare iceoryx2 echo server | | - | {ms(r['idle_bare_p99_us'])} | - |")
+    if "solve_time_p50_us" in r:
+        out.append(f"| (the matcher's solves, beside the queries) | {r.get('solve_time_count', '')} | "
+                   f"{ms(r['solve_time_p50_us'])} | {ms(r['solve_time_p99_us'])} | - |")
+    out.append("")
+    out.append(f"{r['objects']} objects, method `{r['method']}`, tier `{r['tier']}`, {r['rate_hz']:.0f} ticks/s "
+               f"for {r['duration_s']:.0f} s; `ratio_all_p99` (matcher / echo) {r['ratio_all_p99']:.2f}"
+               + (f"; `ratio_busy_idle_p99` {r['ratio_busy_idle_p99']:.2f}" if "ratio_busy_idle_p99" in r else "")
+               + f"; timeouts {r['timeouts']}, errors {r['errors']}.")
+    return out
+
+
+def demo_table(rows, _arg):
+    r = rows[0]
+    statuses = ", ".join(f"{k} {v}" for k, v in sorted(r.get("statuses", {}).items()))
+    return ["| queries | answered | correct | accuracy | round trip p50 / p99 | statuses | errors |",
+            "|---|---|---|---|---|---|---|",
+            f"| {r['queries']} | {r['answered']} | {r['correct']} | {r['accuracy']:.2f} | "
+            f"{ms(r['rtt_p50_us'])} / {ms(r['rtt_p99_us'])} | {statuses} | {r['errors']} |"]
+
+
+def soak_table(rows, _arg):
+    r = rows[0]
+    out = ["| figure | value |", "|---|---|"]
+    for key, value in r.items():
+        if isinstance(value, dict):
+            value = ", ".join(f"{k} {v}" for k, v in value.items()) or "none"
+        elif isinstance(value, float):
+            value = f"{value:.1f}" if abs(value) >= 10 else f"{value:.3g}"
+        out.append(f"| {key} | {value} |")
+    return out
+
+
+def remote_table(rows, _arg):
+    r = rows[0]
+    out = percentiles(r, [("remote", f"over Zenoh ({r.get('encoding', '?')}), vref-bridge"),
+                          ("local", "local iceoryx2, same matcher")])
+    out.append("")
+    out.append(f"The bridge adds {ms(r['added_p50_us'])} at p50 and {ms(r['added_p99_us'])} at p99 "
+               f"({r['rate_hz']:.0f} ticks/s for {r['duration_s']:.0f} s, loopback).")
+    return out
+
+
+def python_table(rows, _arg):
+    r = rows[0]
+    return ["| client | cached p50 | cached p99 | first answer from a new solution p50 | count |",
+            "|---|---|---|---|---|",
+            f"| Python `vref_client` | {ms(r['python']['cached_p50_us'])} | {ms(r['python']['cached_p99_us'])} | "
+            f"{ms(r['python']['solve_p50_us'])} | {r['python']['cached_count']} |",
+            f"| Rust `ReferenceClient` | {ms(r['rust']['cached_p50_us'])} | {ms(r['rust']['cached_p99_us'])} | "
+            f"{ms(r['rust']['solve_p50_us'])} | {r['rust']['cached_count']} |",
+            "", f"Python / Rust cached p50: {r['ratio_cached_p50']:.2f}."]
+
+
+def perception_table(rows, _arg):
+    out = ["| BOP preset | images | objects | front end median (p99) per image | PNG decode median (p99) |",
+           "|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f"| {r['dataset']} | {r['images']} | {r['objects']} | {ms(r['median_us'])} ({ms(r['p99_us'])}) | "
+                   f"{ms(r['decode_median_us'])} ({ms(r['decode_p99_us'])}) |")
+    return out
+
+
+def pygmtools_table(rows, arg):
+    """pygmtools' full solve beside vref's, on the same scenes (ARG: vref's solver file)."""
+    vref = {}
+    if arg and os.path.exists(arg):
+        for r in lines(arg):
+            if r["mode"] == "full":
+                vref[(r["method"], r["tier"], r["objects"])] = r["median_us"]
+    sizes = sorted({r["objects"] for r in rows})
+    out = ["| solver | " + " | ".join(f"{s} objects" for s in sizes) + " |", "|---|" + "---|" * len(sizes)]
+    for method in ["sm", "rrwm"]:
+        for tier in ["exact", "live"]:
+            if any((method, tier, s) in vref for s in sizes):
+                out.append(f"| vref {method}, {tier} tier | " + " | ".join(
+                    ms(vref[(method, tier, s)]) if (method, tier, s) in vref else "-" for s in sizes) + " |")
+        for params, label in [("algorithms", "ALGORITHMS.md's iteration caps"), ("defaults", "its defaults")]:
+            cells = {r["objects"]: r for r in rows if r["method"] == method and r["params"] == params}
+            if cells:
+                out.append(f"| pygmtools {method}, {label} | " + " | ".join(
+                    f"{ms(cells[s]['total_median_us'])} (acc. {cells[s]['accuracy']:.2f})" if s in cells else "-"
+                    for s in sizes) + " |")
+    return out
+
+
+KINDS = {"pygmtools": pygmtools_table, "method": method_table, "coincidence": coincidence_table, "accuracy": accuracy_table,
+         "cmu": cmu_table, "solver": solver_table, "query": query_table, "demo": demo_table,
+         "soak": soak_table, "remote": remote_table, "python": python_table, "perception": perception_table}
+
+
+def render(spec):
+    kind, *rest = spec.split()
+    file = rest[0] if rest else "docs/results/method-*.json"
+    arg = rest[1] if len(rest) > 1 else None
+    if kind not in KINDS:
+        raise SystemExit(f"tables.py: unknown table kind '{kind}' (known: {', '.join(KINDS)})")
+    if rest and not os.path.exists(file):
+        return f"Not measured: `{file}` is missing (run `bash tools/reproduce.sh`).\n"
+    rows = lines(file) if rest else []
+    body = KINDS[kind](rows, arg)
+    return f"From `{file}` (`tools/reproduce.sh`{run_note()}):\n\n" + "\n".join(body) + "\n"
+
+
+def main(argv):
+    check = "--check" in argv
+    changed = []
+    for path in [a for a in argv if a != "--check"]:
+        with open(path) as f:
+            text = f.read()
+        new = BLOCK.sub(lambda m: m.group(1) + render(m.group("spec")) + m.group(4), text)
+        if new != text:
+            changed.append(path)
+            if not check:
+                with open(path, "w") as f:
+                    f.write(new)
+    if check and changed:
+        print("tables out of date: " + ", ".join(changed), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
