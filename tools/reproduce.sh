@@ -136,6 +136,8 @@ fi
 step "vref's side of the pygmtools comparison"
 "$vref" bench solver --method rrwm --method sm --tier exact --tier live \
   --sizes 8,16,32,64 --repeats "$solver_repeats" --json > "$out/bench-solver-pygmtools.jsonl"
+"$vref" bench plot --solver "$out/bench-solver-pygmtools.jsonl" --pygmtools "$out/pygmtools.jsonl" \
+  --out docs/solve-time.png 2>/dev/null
 
 step "soak ($soak_s)"
 "$vref" soak --duration "$soak_s" --json > "$out/soak.json"
