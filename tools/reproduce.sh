@@ -139,6 +139,9 @@ step "vref's side of the pygmtools comparison"
 "$vref" bench plot --solver "$out/bench-solver-pygmtools.jsonl" --pygmtools "$out/pygmtools.jsonl" \
   --out docs/solve-time.png 2>/dev/null
 
+step "recording size"
+bash tools/recording-size.sh "$([ "$mode" = quick ] && echo 20 || echo 60)" > "$out/recording-size.json"
+
 step "soak ($soak_s)"
 "$vref" soak --duration "$soak_s" --json > "$out/soak.json"
 

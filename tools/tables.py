@@ -42,8 +42,7 @@ def run_note():
     if not os.path.exists(path):
         return ""
     r = lines(path)[0]
-    return (f"; {r['mode']} run of {r['date']}, commit {r['commit']}, {r['cores']} cores "
-            f"({r['cpu']}), load {r['load_at_start']} at the start")
+    return f", {r['mode']} run, {r['date']}, {r['commit']}, {r['cores']} cores at load {r['load_at_start']}"
 
 
 def name(dataset):
@@ -155,17 +154,18 @@ def percentiles(r, prefixes):
     return out
 
 
-def query_table(rows, _arg):
+def query_table(rows, arg):
+    """ARG `short`: only every answer against the bare echo."""
     r = rows[0]
-    out = percentiles(r, [("cached", "matcher, answer from the current solution"),
-                          ("solve", "matcher, first answer from a new solution"),
-                          ("all", "matcher, every answer"),
-                          ("bare", "bare iceoryx2 echo server")])
-    if "idle_all_p99_us" in r:
+    kinds = [("cached", "matcher, answer from the current solution"),
+             ("solve", "matcher, first answer from a new solution"),
+             ("all", "matcher, every answer"), ("bare", "bare iceoryx2 echo server")]
+    out = percentiles(r, kinds[2:] if arg == "short" else kinds)
+    if "idle_all_p99_us" in r and arg != "short":
         out.append(f"| idle matcher (feeds stopped), every answer | | {ms(r['idle_all_p50_us'])} | "
                    f"{ms(r['idle_all_p99_us'])} | - |")
         out.append(f"| idle phase, bare iceoryx2 echo server | | - | {ms(r['idle_bare_p99_us'])} | - |")
-    if "solve_time_p50_us" in r:
+    if "solve_time_p50_us" in r and arg != "short":
         out.append(f"| (the matcher's solves, beside the queries) | {r.get('solve_time_count', '')} | "
                    f"{ms(r['solve_time_p50_us'])} | {ms(r['solve_time_p99_us'])} | - |")
     out.append("")
@@ -178,7 +178,7 @@ def query_table(rows, _arg):
 
 def demo_table(rows, _arg):
     r = rows[0]
-    statuses = ", ".join(f"{k} {v}" for k, v in sorted(r.get("statuses", {}).items()))
+    statuses = ", ".join(f"{k} {v}" for k, v in sorted(r.get("statuses", {}).items()) if v)
     return ["| queries | answered | correct | accuracy | round trip p50 / p99 | statuses | errors |",
             "|---|---|---|---|---|---|---|",
             f"| {r['queries']} | {r['answered']} | {r['correct']} | {r['accuracy']:.2f} | "
@@ -187,14 +187,22 @@ def demo_table(rows, _arg):
 
 def soak_table(rows, _arg):
     r = rows[0]
-    out = ["| figure | value |", "|---|---|"]
-    for key, value in r.items():
-        if isinstance(value, dict):
-            value = ", ".join(f"{k} {v}" for k, v in value.items()) or "none"
-        elif isinstance(value, float):
-            value = f"{value:.1f}" if abs(value) >= 10 else f"{value:.3g}"
-        out.append(f"| {key} | {value} |")
-    return out
+
+    def counts(d):
+        return ", ".join(f"{k} {v}" for k, v in sorted(d.items()) if v) or "none"
+    snaps = r["snapshots"]
+    return ["| figure | value |", "|---|---|",
+            f"| run | {r['duration_s']:.0f} s, feeds {r['feed_rate_hz']:.0f} Hz, queries asked at {r['query_rate_hz']:.0f}/s |",
+            f"| queries sent / answered / timed out | {r['queries']} / {r['answered']} / {r['timeouts']} |",
+            f"| statuses | {counts(r['statuses'])}; failures: {counts(r['errors'])} |",
+            "| snapshots published / received / accepted | " + "; ".join(
+                f"{side} {snaps['published'][side]} / {snaps['received'][side]} / {snaps['accepted'][side]}"
+                for side in ["robot", "human"]) + " |",
+            f"| rejected | {counts(r['rejected'])} |",
+            f"| round trip p50 / p99 / p99.9 / max | {ms(r['rtt_p50_us'])} / {ms(r['rtt_p99_us'])} / "
+            f"{ms(r['rtt_p999_us'])} / {ms(r['rtt_max_us'])} |",
+            f"| matcher RSS after warm-up / at the end | {r['rss_start_kb']} kB / {r['rss_end_kb']} kB "
+            f"({r['rss_growth_kb']:+d} kB) |"]
 
 
 def remote_table(rows, _arg):
@@ -250,7 +258,30 @@ def pygmtools_table(rows, arg):
     return out
 
 
-KINDS = {"pygmtools": pygmtools_table, "method": method_table, "coincidence": coincidence_table, "accuracy": accuracy_table,
+def recording_table(rows, _arg):
+    out = ["| format | MB per minute | measured over |", "|---|---|---|"]
+    names = {"mcap": "MCAP (`vref record --out F.mcap`: raw and Foxglove channels, zstd)",
+             "vrec": "vref's own (`--out F.vrec`: bincode, uncompressed)"}
+    for r in rows:
+        out.append(f"| {names.get(r['format'], r['format'])} | {r['mb_per_minute']:.2f} | {r['seconds']:.0f} s |")
+    return out
+
+
+def bop_table(rows, arg):
+    """Every method on two files side by side (ARG: the second file)."""
+    second = lines(arg) if arg and os.path.exists(arg) else []
+    label = lambda rs: name(rs[0]["dataset"]) if rs else "?"
+    out = [f"| method | {label(rows)} accuracy / precision | {label(second)} accuracy / precision |",
+           "|---|---|---|"]
+    other = {r["method"]: r for r in second}
+    for r in rows:
+        o = other.get(r["method"])
+        cell = f"{o['accuracy']:.3f} / {o['precision']:.3f}" if o else "-"
+        out.append(f"| {r['method']} | {r['accuracy']:.3f} / {r['precision']:.3f} | {cell} |")
+    return out
+
+
+KINDS = {"bop": bop_table, "recording": recording_table, "pygmtools": pygmtools_table, "method": method_table, "coincidence": coincidence_table, "accuracy": accuracy_table,
          "cmu": cmu_table, "solver": solver_table, "query": query_table, "demo": demo_table,
          "soak": soak_table, "remote": remote_table, "python": python_table, "perception": perception_table}
 
@@ -265,7 +296,8 @@ def render(spec):
         return f"Not measured: `{file}` is missing (run `bash tools/reproduce.sh`).\n"
     rows = lines(file) if rest else []
     body = KINDS[kind](rows, arg)
-    return f"From `{file}` (`tools/reproduce.sh`{run_note()}):\n\n" + "\n".join(body) + "\n"
+    files = " and ".join(f"`{f}`" for f in rest if f.startswith("docs/")) or f"`{file}`"
+    return f"From {files} (`tools/reproduce.sh`{run_note()}):\n\n" + "\n".join(body) + "\n"
 
 
 def main(argv):
