@@ -13,6 +13,11 @@ cd "$(dirname "$0")/.."
 
 cargo test --workspace --locked
 
+# Every table of the README and docs/ is the one tools/tables.py makes from
+# docs/results/: a table edited by hand, or a result file changed without
+# its table, fails here.
+python3 tools/tables.py --check README.md docs/*.md
+
 venv="${VREF_VENV:-target/python-venv}"
 python="${PYTHON:-python3}"
 if [ ! -x "$venv/bin/python" ]; then
