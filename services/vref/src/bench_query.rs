@@ -120,15 +120,12 @@ impl Samples {
         self.0.len()
     }
 
-    /// Nearest-rank percentile; `None` without samples.
+    /// Nearest-rank percentile (vref_measure's one definition); `None`
+    /// without samples.
     pub(crate) fn percentile(&self, q: f64) -> Option<f64> {
         let mut sorted = self.0.clone();
         sorted.sort_by(f64::total_cmp);
-        if sorted.is_empty() {
-            return None;
-        }
-        let rank = (q * sorted.len() as f64).ceil() as usize;
-        Some(sorted[rank.clamp(1, sorted.len()) - 1])
+        vref_measure::percentile(&sorted, q)
     }
 }
 

@@ -88,13 +88,14 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
             (Truth::Synthetic(Box::new(world)), feed_args)
         }
         SourceSpec::Bop(dir) => {
-            let world = BopWorld::load(dir, config.perception, config.scene.limits(), args.hold_s)
-                .bad_input()?;
+            let world =
+                BopWorld::load(dir, config.perception, config.scene.limits(), args.hold_s())
+                    .bad_input()?;
             let feed_args = vec![
                 "--source".to_owned(),
                 format!("bop:{}", dir.display()),
-                "--hold-s".to_owned(),
-                args.hold_s.to_string(),
+                "--hold".to_owned(),
+                vref_measure::format_duration(Duration::from_secs_f64(args.hold_s())),
             ];
             (Truth::Bop(world), feed_args)
         }
@@ -172,13 +173,9 @@ impl Summary {
         }
     }
 
+    /// Nearest rank (vref_measure); 0 without answers.
     fn percentile(&self, q: f64) -> u64 {
-        let mut sorted = self.rtt_us.clone();
-        sorted.sort_unstable();
-        match sorted.len() {
-            0 => 0,
-            n => sorted[((n - 1) as f64 * q).round() as usize],
-        }
+        vref_measure::percentile_of(&self.rtt_us, q).unwrap_or(0)
     }
 
     fn json(&self) -> String {

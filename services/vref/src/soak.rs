@@ -99,7 +99,7 @@ fn soak(
     let name = format!("vref-soak-{}", std::process::id());
     let mut client = ReferenceClient::connect(&config.ipc, &name)?;
     let stats = StatsReader::connect(&config.ipc, &format!("{name}-stats"))?;
-    let timeout = Duration::from_millis(args.timeout_ms);
+    let timeout = args.timeout();
 
     warm_up(&mut client, &stats, world, services)?;
     // Memory at start is taken once the matcher has answered and solved:
@@ -225,12 +225,10 @@ fn published_snapshots(log: &str) -> Option<u64> {
         .ok()
 }
 
-/// `q` in 0..=1 of sorted values (nearest rank); 0 if there are none.
+/// `q` in 0..=1 of sorted values (nearest rank, vref_measure's one
+/// definition); 0 if there are none.
 fn percentile(sorted: &[u64], q: f64) -> u64 {
-    match sorted.len() {
-        0 => 0,
-        n => sorted[((n - 1) as f64 * q).round() as usize],
-    }
+    vref_measure::percentile(sorted, q).unwrap_or(0)
 }
 
 /// Answers that did not give a usable reference: by status, plus client
@@ -377,7 +375,7 @@ mod tests {
     #[test]
     fn percentiles_by_nearest_rank() {
         let sorted: Vec<u64> = (1..=1000).collect();
-        assert_eq!(percentile(&sorted, 0.5), 501);
+        assert_eq!(percentile(&sorted, 0.5), 500);
         assert_eq!(percentile(&sorted, 0.99), 990);
         assert_eq!(percentile(&sorted, 0.999), 999);
         assert_eq!(percentile(&[], 0.5), 0);
