@@ -42,6 +42,11 @@ def test_durations() -> None:
     assert parse_duration("500ms") == 0.5
     assert parse_duration("1.5s") == 1.5
     assert parse_duration("2m") == 120.0
-    for bad, says in [("5", "no unit"), ("soon", "not a duration"), ("0s", "positive"), ("-1s", "not a duration")]:
+    for bad, says in [
+        ("5", "no unit"),
+        ("soon", "not a duration"),
+        ("0s", "positive"),
+        ("-1s", "not a duration"),
+    ]:
         with pytest.raises(ValueError, match=says):
             parse_duration(bad)

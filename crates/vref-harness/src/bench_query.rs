@@ -28,8 +28,8 @@ use vref_sim::LiveWorld;
 use vref_wire::ipc::{DecisionReader, ReferenceClient, now_ns};
 use vref_wire::{AnswerStatus, ReferenceAnswer};
 
+use crate::Finished;
 use crate::RunError;
-use crate::demo::Finished;
 use crate::echo::echo_settings;
 use crate::launch::{FEEDS, Isolation, LaunchError, Services, keep_logs_if, prepare};
 use crate::ready::{Readiness, ReadyError, wait_ready};

@@ -15,7 +15,7 @@ use vref_wire::{AnswerStatus, ReferenceAnswer};
 
 use crate::launch::{Isolation, Services, keep_logs_if, prepare};
 use crate::ready::{Readiness, ReadyError, wait_ready};
-use crate::{RunError, now_s};
+use crate::{Finished, RunError, now_s};
 
 /// How long the services may take to give a first answer.
 pub const READY_WITHIN: Duration = Duration::from_secs(30);
@@ -39,14 +39,6 @@ pub struct DemoOptions {
     pub objects: Option<usize>,
     /// Queries per second.
     pub query_rate: f64,
-}
-
-/// A run's report and how its services stopped (a report can be complete
-/// though a service then failed to stop cleanly).
-#[derive(Debug)]
-pub struct Finished<R> {
-    pub report: R,
-    pub stopped: Result<(), crate::launch::LaunchError>,
 }
 
 /// What the feeds show, computed here too: the truth the answers are

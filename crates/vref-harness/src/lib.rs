@@ -63,6 +63,14 @@ impl RunError {
     }
 }
 
+/// A run's report and how its services stopped (a report can be complete
+/// though a service then failed to stop cleanly).
+#[derive(Debug)]
+pub struct Finished<R> {
+    pub report: R,
+    pub stopped: Result<(), crate::launch::LaunchError>,
+}
+
 /// Seconds since the Unix epoch (the feeds' clock).
 pub fn now_s() -> f64 {
     vref_wire::ipc::now_ns() as f64 / 1e9

@@ -15,7 +15,8 @@ use vref_sim::LiveWorld;
 use vref_wire::ipc::{IpcError, ReferenceClient, StatsReader, now_ns};
 use vref_wire::{AnswerStatus, MatcherStats};
 
-use crate::demo::{Finished, ask};
+use crate::Finished;
+use crate::demo::ask;
 use crate::launch::{Isolation, Services, keep_logs_if, prepare};
 use crate::ready::{Readiness, ReadyError, wait_ready};
 use crate::{RunError, now_s};

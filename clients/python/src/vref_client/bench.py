@@ -30,7 +30,9 @@ from typing import Any
 
 from .client import ReferenceClient
 from .errors import AnswerTimeout, MatcherNotRunning
-from .measure import parse_duration, percentile
+# Re-exported: the one definition, as vref_client.bench.percentile was before.
+from .measure import parse_duration as parse_duration
+from .measure import percentile as percentile
 from .services import Connection, IpcSettings
 
 SERVICES = ("vref-matcher", "vref-perception-feed", "vref-gesture-feed")

@@ -43,9 +43,10 @@ def parse_duration(text: str) -> float:
     if match is None:
         raise ValueError(f"`{text}` is not a duration (examples: 10s, 500ms, 2m)")
     number, unit = match.groups()
+    given = text.strip()
     if unit is None:
-        raise ValueError(f"`{text.strip()}` has no unit: write e.g. {text.strip()}s or {text.strip()}ms")
+        raise ValueError(f"`{given}` has no unit: write e.g. {given}s or {given}ms")
     seconds = float(number) * _UNIT_S[unit]
     if not (0.0 < seconds < 8.64e6):
-        raise ValueError(f"`{text.strip()}` must be a positive duration under 100 days")
+        raise ValueError(f"`{given}` must be a positive duration under 100 days")
     return seconds
