@@ -254,6 +254,67 @@ fn config_check_accepts_the_shipped_file_and_names_an_unknown_key() {
     }
 }
 
+#[test]
+fn config_check_refuses_a_bad_tier_naming_it_and_so_does_the_matcher() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = write(dir.path(), "tier.toml", "[matcher]\ntier = \"fastest\"\n");
+    let run = vref(&["config", "check", &bad], LIMIT);
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    for part in ["[matcher] tier", "fastest", "exact or live"] {
+        assert!(run.stderr.contains(part), "{part}: {}", run.stderr);
+    }
+    // The matcher refuses the same file as bad configuration (2), at once.
+    let matcher = std::path::Path::new(env!("CARGO_BIN_EXE_vref")).with_file_name("vref-matcher");
+    let out = std::process::Command::new(matcher)
+        .args(["--config", &bad])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("tier"));
+}
+
+#[test]
+fn durations_take_one_form_with_a_unit_and_bad_ones_are_named() {
+    for (args, says) in [
+        (&["demo", "--duration", "20"][..], "has no unit"),
+        (&["soak", "--duration", "soon"], "not a duration"),
+        (
+            &["query", "--latest-gesture", "--timeout", "5 parsecs"],
+            "unknown unit",
+        ),
+        (&["bench", "query", "--duration", "0s"], "positive"),
+        (&["record", "--out", "x.vrec", "--duration=-1s"], "positive"),
+    ] {
+        let run = vref(args, LIMIT);
+        assert_eq!(run.code, Some(2), "{args:?}: {}", run.stderr);
+        assert!(run.stderr.contains(says), "{args:?}: {}", run.stderr);
+    }
+    // The former millisecond flag still works, but not beside the new one.
+    let run = vref(
+        &[
+            "query",
+            "--latest-gesture",
+            "--timeout",
+            "1s",
+            "--timeout-ms",
+            "5",
+        ],
+        LIMIT,
+    );
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("cannot be used with"), "{}", run.stderr);
+    let help = vref(&["query", "--help"], LIMIT).ok();
+    for part in [
+        "--timeout <D>",
+        "Exit codes",
+        "3 bad_request",
+        "4 not_ready",
+        "5 stale",
+    ] {
+        assert!(help.stdout.contains(part), "query --help lacks {part}");
+    }
+}
+
 /// The exact tier's product runs in AVX-512, AVX2 or baseline code by what
 /// the CPU has; `VREF_SIMD` caps it, so every path this CPU has can be
 /// checked end to end: all must give the same answers.

@@ -252,8 +252,8 @@ fn a_query_waiting_through_a_matcher_restart_is_answered_by_the_new_one() {
             "query",
             "--human-object",
             "1",
-            "--timeout-ms",
-            "300",
+            "--timeout",
+            "300ms",
             "--config",
             h.config_arg(),
         ],
@@ -278,7 +278,8 @@ fn a_query_waiting_through_a_matcher_restart_is_answered_by_the_new_one() {
         "{answer:?}"
     );
 
-    // A query sent while no matcher runs; and `vref query` then says so.
+    // A query sent while no matcher runs; and `vref query` then says so
+    // (asked with the former spelling, --timeout-ms, which still works).
     h.kill("matcher");
     let run = support::vref(
         &[
@@ -476,7 +477,7 @@ fn snapshots_statistics_and_answers_keep_flowing_during_a_long_solve() {
         h.start(
             name,
             bin,
-            &["--source", &source, "--rate", "30", "--hold-s", "0.2"],
+            &["--source", &source, "--rate", "30", "--hold", "200ms"],
         );
     }
     let stats = StatsReader::connect(&ipc, "test-stats").unwrap();

@@ -136,6 +136,59 @@ fn a_killed_feed_makes_answers_stale_and_a_restarted_feed_fresh() {
     );
 }
 
+/// `vref query --json` with exit code and the answer's JSON.
+fn query_cli(h: &Harness, human: &str) -> (Option<i32>, serde_json::Value, String) {
+    let run = support::vref(
+        &[
+            "query",
+            "--human-object",
+            human,
+            "--timeout",
+            "500ms",
+            "--json",
+            "--config",
+            h.config_arg(),
+        ],
+        Duration::from_secs(20),
+    );
+    let json = serde_json::from_str(run.stdout.trim()).unwrap_or(serde_json::Value::Null);
+    (run.code, json, run.stderr)
+}
+
+#[test]
+fn vref_query_exit_codes_tell_not_ready_bad_request_and_stale_apart() {
+    let (mut h, ipc, source) = table_harness("exits");
+    h.start("matcher", "vref-matcher", &[]);
+    // No feeds: once the matcher serves (1 while nobody does), not_ready.
+    let (code, json, stderr) = eventually(Duration::from_secs(20), "a not_ready answer", || {
+        let got = query_cli(&h, "1");
+        (got.0 != Some(1)).then_some(got)
+    });
+    assert_eq!(code, Some(4), "{stderr}");
+    assert_eq!(json["status"], "not_ready");
+    assert_eq!(json["solved"], false);
+    assert!(stderr.contains("not_ready"), "{stderr}");
+
+    start_feeds(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    wait_ready(&mut client, &h);
+    let (code, json, stderr) = query_cli(&h, "3");
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(json["status"], "ok");
+    assert!(json["solved"].is_boolean(), "{json}");
+    let (code, json, stderr) = query_cli(&h, "99");
+    assert_eq!(code, Some(3), "{stderr}");
+    assert_eq!(json["status"], "bad_request");
+
+    h.kill("perception");
+    eventually(Duration::from_secs(5), "stale after the feed died", || {
+        (status_of(&mut client, 2)? == AnswerStatus::Stale).then_some(())
+    });
+    let (code, json, stderr) = query_cli(&h, "2");
+    assert_eq!(code, Some(5), "{stderr}");
+    assert_eq!(json["status"], "stale");
+}
+
 #[test]
 fn a_restarted_matcher_is_reached_again_by_the_same_client() {
     let (mut h, ipc, source) = table_harness("restart");

@@ -84,7 +84,7 @@ fn soak_help_names_its_flags_and_bad_rates_are_usage_errors() {
         "--objects",
         "--feed-rate",
         "--query-rate",
-        "--timeout-ms",
+        "--timeout",
         "--json",
         "warm-up",
     ] {
@@ -94,7 +94,9 @@ fn soak_help_names_its_flags_and_bad_rates_are_usage_errors() {
         ["--query-rate", "0"],
         ["--feed-rate", "-5"],
         ["--timeout-ms", "0"],
+        ["--timeout", "0s"],
         ["--duration", "soon"],
+        ["--duration", "20"],
     ] {
         let args = ["soak", bad[0], bad[1]];
         let run = support::vref(&args, Duration::from_secs(30));

@@ -116,8 +116,14 @@ def affinity(human, robot, beta, node):
 
 
 def percentile(values, q):
+    """Nearest rank, vref's one definition (vref_measure::percentile,
+    vref_client.measure.percentile): the value at rank ceil(q*n), 1-based,
+    a product within 1e-9 of a whole number counting as that number."""
     s = sorted(values)
-    return s[max(1, math.ceil(q * len(s))) - 1]
+    x = q * len(s)
+    if abs(x - round(x)) < 1e-9:
+        x = round(x)
+    return s[min(max(math.ceil(x), 1), len(s)) - 1]
 
 
 def main():

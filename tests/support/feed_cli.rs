@@ -33,7 +33,7 @@ pub fn help_lists_every_flag(bin: &str) {
         "--rate",
         "--objects",
         "--epoch-ns",
-        "--hold-s",
+        "--hold",
         "dataset:FILE",
         "recording:FILE",
     ] {

@@ -1,5 +1,6 @@
 use std::path::PathBuf;
 use std::str::FromStr;
+use std::time::Duration;
 
 use crate::SetupError;
 
@@ -12,11 +13,11 @@ pub struct FeedArgs {
     pub config: Option<PathBuf>,
     /// What to publish: `synthetic` (a live world from the [feeds] preset
     /// and seed), `dataset:FILE` (the scene pairs of a JSON Lines dataset
-    /// in turn, each for --hold-s seconds), `recording:FILE` (a vref
+    /// in turn, each for --hold), `recording:FILE` (a vref
     /// recording, MCAP or .vrec, replayed with its own timing, looping) or `bop:DIR` (the
     /// scenes of a BOP dataset folder, or of a folder of them, measured by
     /// the perception front end: image 0 is the robot's view, image 1 the
-    /// headset's; each scene for --hold-s seconds, the person pointing at
+    /// headset's; each scene for --hold, the person pointing at
     /// one object both views measured, another every half scene).
     #[arg(long, value_name = "SOURCE", default_value = "synthetic")]
     pub source: SourceSpec,
@@ -34,14 +35,36 @@ pub struct FeedArgs {
     /// be given the same.
     #[arg(long, value_name = "NS", default_value_t = 0)]
     pub epoch_ns: u64,
-    /// Dataset and BOP sources: seconds each scene pair is shown.
+    /// Dataset and BOP sources: how long each scene pair is shown, e.g.
+    /// 5s, 500ms.
+    #[arg(long, value_name = "D", default_value = "5s", value_parser = vref_measure::parse_duration)]
+    pub hold: Duration,
+    /// The former spelling of --hold, in seconds.
     #[arg(
         long,
         value_name = "SECONDS",
-        default_value_t = 5.0,
+        hide = true,
+        conflicts_with = "hold",
         allow_negative_numbers = true
     )]
-    pub hold_s: f64,
+    pub hold_s: Option<f64>,
+}
+
+impl FeedArgs {
+    /// Seconds each scene pair is shown: --hold, or the hidden --hold-s
+    /// if that was given.
+    pub fn hold_seconds(&self) -> f64 {
+        self.hold_s.unwrap_or(self.hold.as_secs_f64())
+    }
+
+    /// The flag the hold came from, for messages.
+    pub fn hold_flag(&self) -> &'static str {
+        if self.hold_s.is_some() {
+            "--hold-s"
+        } else {
+            "--hold"
+        }
+    }
 }
 
 /// Where a feed's content comes from (`--source`).

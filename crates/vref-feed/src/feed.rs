@@ -83,7 +83,7 @@ impl Feed {
                 (Source::Synthetic(Box::new(synthetic)), description)
             }
             SourceSpec::Dataset(path) => {
-                let hold_s = positive("--hold-s", args.hold_s)?;
+                let hold_s = positive(args.hold_flag(), args.hold_seconds())?;
                 let limits = config.scene.limits();
                 let dataset =
                     DatasetSource::load(path, side, limits, hold_s, args.epoch_ns, rate_hz)?;
@@ -95,7 +95,7 @@ impl Feed {
                 (Source::Dataset(dataset), description)
             }
             SourceSpec::Bop(path) => {
-                let hold_s = positive("--hold-s", args.hold_s)?;
+                let hold_s = positive(args.hold_flag(), args.hold_seconds())?;
                 let world = BopWorld::load(path, config.perception, config.scene.limits(), hold_s)?;
                 let bop = BopSource::new(world, side, args.epoch_ns, rate_hz, gesture_rate_hz)?;
                 let description = format!(

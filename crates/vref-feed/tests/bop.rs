@@ -64,7 +64,8 @@ fn both_feeds_show_the_scene_of_the_moment_and_the_gesture_feed_points() {
         rate: None,
         objects: None,
         epoch_ns: 0,
-        hold_s: 5.0,
+        hold: std::time::Duration::from_secs(5),
+        hold_s: None,
     };
     let world = world();
     let config = Config::default();

@@ -23,7 +23,8 @@ fn args(source: SourceSpec) -> FeedArgs {
         rate: None,
         objects: None,
         epoch_ns: 0,
-        hold_s: 5.0,
+        hold: std::time::Duration::from_secs(5),
+        hold_s: None,
     }
 }
 
@@ -242,7 +243,7 @@ fn a_dataset_shows_each_pair_for_the_hold_time_in_turn() {
         (Role::Gesture, [11, 14, 18]),
     ] {
         let mut a = args(SourceSpec::Dataset(path.clone()));
-        a.hold_s = 1.0;
+        a.hold = std::time::Duration::from_secs(1);
         a.rate = Some(10.0);
         let mut feed = prepare(role, &a).unwrap();
         assert!(feed.describe().contains("3 scene pairs"));
@@ -286,7 +287,7 @@ fn dataset_problems_are_refused_before_anything_is_published() {
         "ok.jsonl",
         &scene_line("ok", &[1], &[2], 2),
     )));
-    a.hold_s = -1.0;
+    a.hold_s = Some(-1.0);
     let e = prepare(Role::Perception, &a).unwrap_err();
     assert!(e.to_string().contains("--hold-s"), "{e}");
 }

@@ -233,10 +233,10 @@ pub fn time_solver(
     })
 }
 
-/// Nearest-rank percentile of sorted, non-empty `values`.
+/// Nearest-rank percentile (vref_measure's one definition) of sorted,
+/// non-empty `values`; 0 for none.
 fn percentile(sorted: &[f64], q: f64) -> f64 {
-    let rank = (q * sorted.len() as f64).ceil() as usize;
-    sorted[rank.clamp(1, sorted.len()) - 1]
+    vref_measure::percentile(sorted, q).unwrap_or(0.0)
 }
 
 fn graph(positions: &[[f64; 3]], features: &[Vec<f32>]) -> Result<SceneGraph, GraphError> {

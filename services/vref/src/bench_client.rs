@@ -7,8 +7,9 @@
 
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, bail};
+use anyhow::{Context, anyhow};
 use vref_config::Config;
+use vref_harness::ready::{self, Readiness};
 use vref_wire::AnswerStatus;
 use vref_wire::ipc::{IpcError, ReferenceClient};
 
@@ -52,18 +53,17 @@ pub fn run(args: &BenchClientArgs) -> Result<(), Failure> {
 }
 
 fn wait_ready(client: &mut ReferenceClient, within: Duration) -> anyhow::Result<()> {
-    let deadline = Instant::now() + within;
-    while Instant::now() < deadline {
-        if let Ok(a) = client.latest_gesture(QUERY_TIMEOUT)
-            && matches!(a.status(), AnswerStatus::Ok | AnswerStatus::Ambiguous)
-        {
-            return Ok(());
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    bail!(
-        "no ok or ambiguous latest-gesture answer within {within:?}: is the matcher running with both feeds?"
-    )
+    ready::wait_ready(within, Duration::from_millis(100), || {
+        let ready = client
+            .latest_gesture(QUERY_TIMEOUT)
+            .is_ok_and(|a| matches!(a.status(), AnswerStatus::Ok | AnswerStatus::Ambiguous));
+        Ok(if ready {
+            Readiness::Ready(())
+        } else {
+            Readiness::Waiting("ok or ambiguous latest-gesture answer".to_owned())
+        })
+    })
+    .map_err(|e| anyhow!("{e}: is the matcher running with both feeds?"))
 }
 
 fn measure(client: &mut ReferenceClient, args: &BenchClientArgs) -> Report {

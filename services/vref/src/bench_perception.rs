@@ -128,10 +128,8 @@ fn load(scene: &BopSceneDir, image: u32) -> Result<BopView, Failure> {
     scene.load_view(image).bad_input()
 }
 
+/// Nearest rank (vref_measure's one definition); 0 without values.
 fn percentile(values: &mut [f64], q: f64) -> f64 {
     values.sort_by(f64::total_cmp);
-    match values.len() {
-        0 => 0.0,
-        n => values[((n - 1) as f64 * q).round() as usize],
-    }
+    vref_measure::percentile(values, q).unwrap_or(0.0)
 }

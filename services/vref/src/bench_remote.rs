@@ -6,7 +6,7 @@
 
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, anyhow, bail};
+use anyhow::{Context, anyhow};
 use vref_bridge::RemoteClient;
 use vref_config::{BridgeSettings, Config, ZenohMode};
 use vref_feed::synthetic_world;
@@ -17,9 +17,11 @@ use vref_wire::{AnswerStatus, QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA
 use crate::bench_query::{Samples, human_ids, us};
 use crate::cli::BenchRemoteArgs;
 use crate::failure::{Blame, Failure};
-use crate::launch::{Isolation, Services, keep_logs_if, prepare, sibling};
+use crate::harness;
 use crate::stdout;
 use crate::table::Table;
+use vref_harness::launch::{self, Isolation, Services, keep_logs_if, prepare};
+use vref_harness::ready::{Readiness, ReadyError, wait_ready};
 
 /// How long the services may take to give a first real answer both ways.
 const READY_WITHIN: Duration = Duration::from_secs(30);
@@ -32,7 +34,8 @@ pub fn remote(args: &BenchRemoteArgs) -> Result<(), Failure> {
     }
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
     let (_, world) = synthetic_world(&config.feeds, Some(args.objects)).bad_input()?;
-    let bridge_binary = sibling("vref-bridge").runtime()?;
+    let bin_dir = harness::bin_dir()?;
+    let bridge_binary = launch::binary(&bin_dir, "vref-bridge").runtime()?;
     let endpoint = format!("tcp/127.0.0.1:{}", free_port().runtime()?);
     let prefix = format!("vref/bench{}", std::process::id());
     let mut config = config;
@@ -54,16 +57,16 @@ pub fn remote(args: &BenchRemoteArgs) -> Result<(), Failure> {
         dir,
         config: own,
         config_path,
-    } = prepare(&config, "bench-remote", "vbr").runtime()?;
+    } = prepare(&config, &bin_dir, "bench-remote", "vbr").runtime()?;
 
+    let feed_args = ["--objects".to_owned(), args.objects.to_string()];
     let mut system =
-        Services::start_system(&binaries, &config_path, Some(args.objects), dir.path())
-            .runtime()?;
+        Services::start_system(&binaries, &config_path, &feed_args, dir.path()).runtime()?;
     let mut command = std::process::Command::new(&bridge_binary);
     command.arg("--config").arg(&config_path);
     system.spawn("vref-bridge", command).runtime()?;
     let outcome = measure(args, &own, &world, &endpoint, &prefix, &mut || {
-        system.ensure_running()
+        system.ensure_running().map_err(anyhow::Error::from)
     });
     let stopped = system.stop();
     keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
@@ -125,7 +128,7 @@ fn measure(
     let pid = std::process::id();
     let mut local = ReferenceClient::connect(&config.ipc, &format!("vref-bench-local-{pid}"))?;
     let mut remote = connect_remote(endpoint, prefix, args.encoding, running)?;
-    wait_ready(&mut local, &mut remote, world, running)?;
+    wait_ready_both(&mut local, &mut remote, world, running)?;
 
     let mut report = Report::default();
     let period = Duration::from_secs_f64(1.0 / args.rate);
@@ -182,29 +185,29 @@ fn connect_remote(
     format: vref_bridge::Format,
     running: &mut dyn FnMut() -> anyhow::Result<()>,
 ) -> anyhow::Result<RemoteClient> {
-    let deadline = Instant::now() + READY_WITHIN;
-    loop {
-        running()?;
-        match RemoteClient::connect(endpoint, prefix, format) {
-            Ok(client) => return Ok(client),
-            Err(e) if Instant::now() >= deadline => {
-                return Err(e).context(format!("connecting to the bridge at {endpoint}"));
+    let mut last = String::new();
+    wait_ready(READY_WITHIN, Duration::from_millis(200), || {
+        running().map_err(|e| ReadyError::Check(format!("{e:#}")))?;
+        Ok(match RemoteClient::connect(endpoint, prefix, format) {
+            Ok(client) => Readiness::Ready(client),
+            Err(e) => {
+                last = e.to_string();
+                Readiness::Waiting(format!("session with the bridge at {endpoint}"))
             }
-            Err(_) => std::thread::sleep(Duration::from_millis(200)),
-        }
-    }
+        })
+    })
+    .map_err(|e| anyhow!("connecting to the bridge at {endpoint}: {e} ({last})"))
 }
 
-fn wait_ready(
+fn wait_ready_both(
     local: &mut ReferenceClient,
     remote: &mut RemoteClient,
     world: &LiveWorld,
     running: &mut dyn FnMut() -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
-    let deadline = Instant::now() + READY_WITHIN;
     let (mut local_ready, mut remote_ready) = (false, false);
-    while Instant::now() < deadline {
-        running()?;
+    wait_ready(READY_WITHIN, Duration::from_millis(100), || {
+        running().map_err(|e| ReadyError::Check(format!("{e:#}")))?;
         if let Some(&id) = human_ids(world).first() {
             local_ready = local_ready
                 || local
@@ -215,19 +218,14 @@ fn wait_ready(
                     .ask(human_object(id), QUERY_TIMEOUT)
                     .is_ok_and(|a| answered(&a));
         }
-        if local_ready && remote_ready {
-            return Ok(());
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    bail!(
-        "no answer within {READY_WITHIN:?} {}",
-        match (local_ready, remote_ready) {
-            (false, false) => "from the matcher",
-            (true, false) => "through the bridge",
-            _ => "over iceoryx2",
-        }
-    )
+        Ok(match (local_ready, remote_ready) {
+            (true, true) => Readiness::Ready(()),
+            (false, false) => Readiness::Waiting("answer from the matcher".to_owned()),
+            (true, false) => Readiness::Waiting("answer through the bridge".to_owned()),
+            (false, true) => Readiness::Waiting("answer over iceoryx2".to_owned()),
+        })
+    })
+    .map_err(anyhow::Error::from)
 }
 
 impl Report {

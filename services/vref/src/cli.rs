@@ -7,7 +7,8 @@ use vref_match::{Method, Tier};
 /// and the AR headset's views of one workspace.
 ///
 /// Exit codes: 0 success, 1 failure while running, 2 bad input (usage,
-/// configuration or data). Logs go to stderr; set RUST_LOG (e.g.
+/// configuration or data); `vref query` also 3, 4, 5 for a bad_request,
+/// not_ready or stale answer (vref query --help). Logs go to stderr; set RUST_LOG (e.g.
 /// RUST_LOG=info) for more.
 #[derive(Debug, Parser)]
 #[command(name = "vref", version)]
@@ -36,6 +37,17 @@ pub enum Command {
     /// lines where the match is right, red where it is wrong.
     Viz(VizArgs),
     /// Ask the running matcher which robot object a person means.
+    ///
+    /// The answer is printed whatever its status (with --json, one object
+    /// whose `status` says what it is and `solved` whether a real solve
+    /// made the answering solution, not one carried over unchanged).
+    ///
+    /// Exit codes: 0 an answer from the solution (ok, ambiguous, no_match);
+    /// 1 no matcher (or no bridge) answered within --timeout, or another
+    /// failure; 2 bad input (usage, configuration, endpoint, prefix);
+    /// 3 bad_request (e.g. an unknown human object); 4 not_ready (no
+    /// solution yet); 5 stale (the newest snapshots are older than
+    /// [matcher] stale_after_ms).
     Query(QueryArgs),
     /// Run the three services with synthetic feeds (or BOP scenes: --source
     /// bop:DIR), point at known objects, check every answer against the
@@ -212,8 +224,10 @@ pub struct ScenesArgs {
     /// count, so a shorter run is a prefix of a longer one.
     #[arg(long, value_name = "N")]
     pub count: u64,
-    /// Seed; the same preset, count and seed give a byte-identical file.
-    #[arg(long, value_name = "S", default_value_t = 0)]
+    /// Seed; the same preset, count and seed give a byte-identical file
+    /// (the default, 1, is every command's: `vref bench solver` times
+    /// these scenes).
+    #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
     /// Output dataset file, written whole or not at all (default: stdout).
     #[arg(long, value_name = "FILE")]
@@ -278,8 +292,9 @@ pub struct CmuHouseArgs {
     /// so that some objects have no partner.
     #[arg(long, value_name = "K")]
     pub keep: Option<usize>,
-    /// Seed of the landmark choice and of the robot view's object order.
-    #[arg(long, value_name = "S", default_value_t = 0)]
+    /// Seed of the landmark choice and of the robot view's object order
+    /// (the default, 1, is every command's).
+    #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
     /// Output dataset file (default: stdout).
     #[arg(long, value_name = "FILE")]
@@ -337,9 +352,12 @@ pub struct QueryArgs {
     /// Cone half-angle of `--ray`, radians.
     #[arg(long, value_name = "RAD", default_value_t = 0.1)]
     pub cone: f32,
-    /// How long to wait for the answer, milliseconds.
-    #[arg(long, value_name = "MS", default_value_t = 1000)]
-    pub timeout_ms: u64,
+    /// How long to wait for the answer, e.g. 1s, 300ms.
+    #[arg(long, value_name = "D", default_value = "1s", value_parser = vref_measure::parse_duration)]
+    pub timeout: std::time::Duration,
+    /// The former spelling of --timeout, in milliseconds.
+    #[arg(long, value_name = "MS", hide = true, conflicts_with = "timeout")]
+    pub timeout_ms: Option<u64>,
     /// Print the answer as one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -368,7 +386,7 @@ pub struct RecordArgs {
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
     /// How long to record, e.g. 10s, 500ms, 2m.
-    #[arg(long, value_name = "D", value_parser = crate::duration::parse_duration)]
+    #[arg(long, value_name = "D", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,
     /// MCAP only: latest-gesture queries per second whose answers are
     /// recorded on /vref/answer (0: none, the recorder only subscribes).
@@ -388,11 +406,14 @@ pub struct DemoArgs {
     /// in a target's first 0.5 s, while the new scene's snapshots arrive).
     #[arg(long, value_name = "SOURCE", default_value = "synthetic")]
     pub source: vref_feed::SourceSpec,
-    /// BOP source: seconds each scene is shown.
-    #[arg(long, value_name = "SECONDS", default_value_t = 5.0, value_parser = positive_seconds)]
-    pub hold_s: f64,
+    /// BOP source: how long each scene is shown, e.g. 5s, 500ms.
+    #[arg(long, value_name = "D", default_value = "5s", value_parser = vref_measure::parse_duration)]
+    pub hold: std::time::Duration,
+    /// The former spelling of --hold, in seconds.
+    #[arg(long, value_name = "SECONDS", hide = true, conflicts_with = "hold", value_parser = positive_seconds)]
+    pub hold_s: Option<f64>,
     /// How long to query after the services are ready, e.g. 20s.
-    #[arg(long, value_name = "D", default_value = "20s", value_parser = crate::duration::parse_duration)]
+    #[arg(long, value_name = "D", default_value = "20s", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,
     /// Objects in the synthetic world (default: drawn per class as the
     /// [feeds] preset says).
@@ -413,7 +434,7 @@ pub struct DemoArgs {
 #[derive(Debug, Args)]
 pub struct SoakArgs {
     /// How long to send queries after warm-up, e.g. 20s, 10m.
-    #[arg(long, value_name = "D", default_value = "60s", value_parser = crate::duration::parse_duration)]
+    #[arg(long, value_name = "D", default_value = "60s", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,
     /// Objects in the synthetic world (default: drawn per class as the
     /// [feeds] preset says).
@@ -426,10 +447,13 @@ pub struct SoakArgs {
     /// the period delays the next).
     #[arg(long, value_name = "HZ", default_value_t = 500.0, value_parser = positive_rate)]
     pub query_rate: f64,
-    /// One query's time limit, milliseconds; a query without an answer by
-    /// then counts as a timeout.
-    #[arg(long, value_name = "MS", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(1..))]
-    pub timeout_ms: u64,
+    /// One query's time limit, e.g. 1s, 500ms; a query without an answer
+    /// by then counts as a timeout.
+    #[arg(long, value_name = "D", default_value = "1s", value_parser = vref_measure::parse_duration)]
+    pub timeout: std::time::Duration,
+    /// The former spelling of --timeout, in milliseconds.
+    #[arg(long, value_name = "MS", hide = true, conflicts_with = "timeout", value_parser = clap::value_parser!(u64).range(1..))]
+    pub timeout_ms: Option<u64>,
     /// Print only the summary, as one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -437,6 +461,29 @@ pub struct SoakArgs {
     /// iceoryx2 root path and prefix whatever its [ipc] says.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+impl QueryArgs {
+    /// --timeout, or the hidden --timeout-ms if that was given.
+    pub fn timeout(&self) -> std::time::Duration {
+        self.timeout_ms
+            .map_or(self.timeout, std::time::Duration::from_millis)
+    }
+}
+
+impl SoakArgs {
+    /// --timeout, or the hidden --timeout-ms if that was given.
+    pub fn timeout(&self) -> std::time::Duration {
+        self.timeout_ms
+            .map_or(self.timeout, std::time::Duration::from_millis)
+    }
+}
+
+impl DemoArgs {
+    /// --hold in seconds, or the hidden --hold-s if that was given.
+    pub fn hold_s(&self) -> f64 {
+        self.hold_s.unwrap_or(self.hold.as_secs_f64())
+    }
 }
 
 #[derive(Debug, Args)]
@@ -453,7 +500,7 @@ pub struct ViewArgs {
     #[arg(long, value_name = "FILE.mcap")]
     pub mcap: Option<PathBuf>,
     /// Stop after this long, e.g. 30s (default: on SIGINT/SIGTERM).
-    #[arg(long, value_name = "D", value_parser = crate::duration::parse_duration)]
+    #[arg(long, value_name = "D", value_parser = vref_measure::parse_duration)]
     pub duration: Option<std::time::Duration>,
     /// Most scene updates per second.
     #[arg(long, value_name = "HZ", default_value_t = 10.0, value_parser = positive_rate)]
@@ -553,7 +600,7 @@ pub struct BenchQueryArgs {
     #[arg(long, value_name = "HZ", default_value_t = 200.0, value_parser = positive_rate)]
     pub rate: f64,
     /// How long to measure once the services answer, e.g. 30s.
-    #[arg(long, value_name = "D", default_value = "10s", value_parser = crate::duration::parse_duration)]
+    #[arg(long, value_name = "D", default_value = "10s", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,
     /// Print one JSON object: objects, all_/cached_/solve_/bare_ p50, p99
     /// and p999 in microseconds, ratio_all_p99 (all matcher answers' p99 /
@@ -606,10 +653,10 @@ pub struct BenchClientArgs {
     #[arg(long, value_name = "HZ", default_value_t = 200.0, value_parser = positive_rate)]
     pub rate: f64,
     /// How long to measure once the matcher answers, e.g. 10s.
-    #[arg(long, value_name = "D", default_value = "10s", value_parser = crate::duration::parse_duration)]
+    #[arg(long, value_name = "D", default_value = "10s", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,
     /// How long to wait for a first ok or ambiguous answer, e.g. 30s.
-    #[arg(long, value_name = "D", default_value = "30s", value_parser = crate::duration::parse_duration)]
+    #[arg(long, value_name = "D", default_value = "30s", value_parser = vref_measure::parse_duration)]
     pub ready_within: std::time::Duration,
     /// Print one JSON object: cached_/solve_ p50 and p99 in microseconds,
     /// counts, timeouts, errors.
@@ -630,7 +677,7 @@ pub struct BenchRemoteArgs {
     #[arg(long, value_name = "HZ", default_value_t = 200.0, value_parser = positive_rate)]
     pub rate: f64,
     /// How long to measure once both answer, e.g. 10s.
-    #[arg(long, value_name = "D", default_value = "10s", value_parser = crate::duration::parse_duration)]
+    #[arg(long, value_name = "D", default_value = "10s", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,
     /// How remote queries and answers travel: json or binary.
     #[arg(long, value_name = "E", default_value = "binary")]

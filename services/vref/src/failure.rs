@@ -8,12 +8,16 @@ pub enum Failure {
     BadInput(anyhow::Error),
     /// Something broke while running.
     Runtime(anyhow::Error),
+    /// The command did its work but the outcome it reports is not a
+    /// success, with an exit code of its own (`vref query`: the matcher
+    /// answered not_ready, stale or bad_request).
+    Outcome(u8, anyhow::Error),
 }
 
 impl Failure {
     pub fn error(&self) -> &anyhow::Error {
         match self {
-            Failure::BadInput(e) | Failure::Runtime(e) => e,
+            Failure::BadInput(e) | Failure::Runtime(e) | Failure::Outcome(_, e) => e,
         }
     }
 
@@ -21,6 +25,7 @@ impl Failure {
         match self {
             Failure::BadInput(_) => ExitCode::from(2),
             Failure::Runtime(_) => ExitCode::from(1),
+            Failure::Outcome(code, _) => ExitCode::from(*code),
         }
     }
 }

@@ -2,7 +2,8 @@
 //!
 //! Exit codes: 0 success, 1 failure while running, 2 bad input (usage,
 //! configuration, data set), so scripts can tell "you asked wrong" from
-//! "it broke".
+//! "it broke"; `vref query` also 3, 4 and 5 for a bad_request, not_ready
+//! or stale answer (query.rs, exit_code).
 
 mod bench;
 mod bench_client;
@@ -13,12 +14,11 @@ mod bench_remote;
 mod cli;
 mod config_cmd;
 mod demo;
-mod duration;
 mod eval;
 mod failure;
+mod harness;
 mod import;
 mod inject;
-mod launch;
 mod progress;
 mod query;
 mod record;

@@ -5,7 +5,7 @@ use vref_bridge::RemoteClient;
 use vref_bridge::json::AnswerJson;
 use vref_config::Config;
 use vref_wire::ipc::{IpcError, ReferenceClient};
-use vref_wire::{QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
+use vref_wire::{AnswerStatus, QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
 
 use crate::cli::QueryArgs;
 use crate::failure::{Blame, Failure};
@@ -13,7 +13,7 @@ use crate::stdout;
 
 pub fn run(args: &QueryArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
-    let timeout = Duration::from_millis(args.timeout_ms);
+    let timeout = args.timeout();
     let query = query_of(args);
     let (answer, rtt) = match &args.remote {
         Some(endpoint) => ask_remote(args, &config, endpoint, query, timeout)?,
@@ -24,7 +24,27 @@ pub fn run(args: &QueryArgs) -> Result<(), Failure> {
     } else {
         describe(&answer, rtt)
     };
-    stdout::print(&format!("{text}\n"))
+    stdout::print(&format!("{text}\n"))?;
+    match exit_code(answer.status()) {
+        0 => Ok(()),
+        code => Err(Failure::Outcome(
+            code,
+            anyhow::anyhow!("the matcher answered {}", answer.status().name()),
+        )),
+    }
+}
+
+/// `vref query`'s exit code for an answer of `status` (as `vref query
+/// --help` states): 0 for an answer from the solution (ok, ambiguous,
+/// no_match); 3 bad_request, 4 not_ready, 5 stale. 1 (no matcher, no
+/// answer in time) and 2 (bad input) come from failures before any answer.
+pub fn exit_code(status: AnswerStatus) -> u8 {
+    match status {
+        AnswerStatus::Ok | AnswerStatus::Ambiguous | AnswerStatus::NoMatch => 0,
+        AnswerStatus::BadRequest => 3,
+        AnswerStatus::NotReady => 4,
+        AnswerStatus::Stale => 5,
+    }
 }
 
 /// The question the arguments ask (the request id is the client's).
@@ -160,4 +180,21 @@ pub fn json(a: &ReferenceAnswer, rtt: Duration) -> String {
         rtt_us: rtt.as_micros(),
     };
     serde_json::to_string(&line).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exit_codes_are_distinct_for_answers_that_are_not_a_reference() {
+        let codes: Vec<u8> = AnswerStatus::ALL.iter().map(|s| exit_code(*s)).collect();
+        assert_eq!(exit_code(AnswerStatus::Ok), 0);
+        assert_eq!(exit_code(AnswerStatus::Ambiguous), 0);
+        assert_eq!(exit_code(AnswerStatus::NoMatch), 0);
+        assert_eq!(exit_code(AnswerStatus::BadRequest), 3);
+        assert_eq!(exit_code(AnswerStatus::NotReady), 4);
+        assert_eq!(exit_code(AnswerStatus::Stale), 5);
+        assert_eq!(codes.len(), 6);
+    }
 }

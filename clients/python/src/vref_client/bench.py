@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import resource
 import shutil
@@ -31,20 +30,14 @@ from typing import Any
 
 from .client import ReferenceClient
 from .errors import AnswerTimeout, MatcherNotRunning
+# Re-exported: the one definition, as vref_client.bench.percentile was before.
+from .measure import parse_duration as parse_duration
+from .measure import percentile as percentile
 from .services import Connection, IpcSettings
 
 SERVICES = ("vref-matcher", "vref-perception-feed", "vref-gesture-feed")
 READY_S = 30.0
 QUERY_TIMEOUT_S = 2.0
-
-
-def percentile(values: Sequence[float], q: float) -> float | None:
-    """Nearest rank, as `vref bench query`; ``None`` without values."""
-    if not values:
-        return None
-    ordered = sorted(values)
-    rank = min(max(math.ceil(q * len(ordered)), 1), len(ordered))
-    return ordered[rank - 1]
 
 
 def rounded(value: float | None, digits: int = 1) -> float | None:
@@ -224,7 +217,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                     "--rate",
                     str(args.rate),
                     "--duration",
-                    f"{args.duration}s",
+                    f"{round(args.duration * 1000)}ms",
                     "--json",
                 ],
                 stdout=subprocess.PIPE,
@@ -299,7 +292,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         prog="python -m vref_client.bench",
         description=__doc__.split("\n\n")[1] if __doc__ else None,
     )
-    parser.add_argument("--duration", type=float, default=10.0, help="seconds to measure")
+    parser.add_argument(
+        "--duration", type=parse_duration, default=10.0, help="how long to measure, e.g. 10s"
+    )
     parser.add_argument(
         "--rate", type=float, default=200.0, help="queries per second of each client"
     )

@@ -1,0 +1,77 @@
+//! The harness that runs the whole system for a measurement, apart from
+//! the `vref` command line that parses arguments and prints:
+//!
+//! - [`launch`]: the one process launcher. Service binaries under an
+//!   iceoryx2 root path and prefix of their own, each logging to a file;
+//!   stopped with SIGTERM, killed after a bound.
+//! - [`ready`]: the one readiness wait, bounded by a timeout.
+//! - [`echo`]: the echo server of `vref bench query` (the bare iceoryx2
+//!   round trip).
+//! - [`demo`], [`soak`], [`bench_query`]: the runners of `vref demo`,
+//!   `vref soak` and `vref bench query`, each returning a report that
+//!   renders itself as the command's JSON line or table.
+//! - [`table`]: the plain-text tables the reports render.
+//! - [`samples`]: round trips of one kind, with vref_measure's one
+//!   percentile definition (nearest rank).
+//!
+//! Nothing here prints or exits; errors are one thiserror enum per concern
+//! ([`launch::LaunchError`], [`ready::ReadyError`], [`echo::EchoError`],
+//! [`RunError`] for the runners).
+
+pub mod bench_query;
+pub mod demo;
+pub mod echo;
+pub mod launch;
+pub mod ready;
+pub mod samples;
+pub mod soak;
+pub mod table;
+
+use vref_wire::ipc::IpcError;
+
+/// Why a runner (demo, soak, query benchmark) did not give a report.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The caller's input: options, configuration, data.
+    #[error("{0}")]
+    BadInput(String),
+    #[error(transparent)]
+    Launch(#[from] launch::LaunchError),
+    #[error(transparent)]
+    Ready(#[from] ready::ReadyError),
+    #[error(transparent)]
+    Ipc(#[from] IpcError),
+    /// A service died while the run measured.
+    #[error("a service died during the {run}: {source}")]
+    Died {
+        run: &'static str,
+        source: launch::LaunchError,
+    },
+    /// The matcher published no statistics in time.
+    #[error("the matcher published no statistics within {0:?}")]
+    NoStats(std::time::Duration),
+    /// The caller's output callback failed (e.g. stdout closed).
+    #[error("{0}")]
+    Output(String),
+}
+
+impl RunError {
+    /// Whether the caller asked wrong (exit 2 for the command line), not
+    /// the run broke (exit 1).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(self, RunError::BadInput(_))
+    }
+}
+
+/// A run's report and how its services stopped (a report can be complete
+/// though a service then failed to stop cleanly).
+#[derive(Debug)]
+pub struct Finished<R> {
+    pub report: R,
+    pub stopped: Result<(), crate::launch::LaunchError>,
+}
+
+/// Seconds since the Unix epoch (the feeds' clock).
+pub fn now_s() -> f64 {
+    vref_wire::ipc::now_ns() as f64 / 1e9
+}
