@@ -118,7 +118,7 @@ step "Python client round trip"
 venv=${VREF_VENV:-target/python-venv}
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check ./clients/python
-"$venv/bin/python" -m vref_client.bench --duration "${bench_s%s}" --bin-dir target/release --json > "$out/python-bench.json"
+"$venv/bin/python" -m vref_client.bench --duration "$bench_s" --bin-dir target/release --json > "$out/python-bench.json"
 
 if [ "$mode" = full ]; then
   step "pygmtools on the solver bench's scenes"
