@@ -160,7 +160,7 @@ impl Default for RigidParams {
             chance_samples: 32,
             clipper_seed_pairs: 0,
             chance_rows: 512,
-            false_alarms: 200.0,
+            false_alarms: 1000.0,
             margin_floor: 0.25,
             chance_cap: 0.45,
 
