@@ -36,6 +36,9 @@ pub struct RowAnswer {
     pub robot_objects: usize,
     /// The method's margin of its motion over chance, where it has one.
     pub margin: Option<f64>,
+    /// The method's significance of its motion against chance, where it
+    /// has one (`-log10` of its false alarms).
+    pub significance: Option<f64>,
 }
 
 /// One method's result over all scenes added.
@@ -114,6 +117,7 @@ impl Evaluation {
                     human_objects: pair.human.len(),
                     robot_objects: pair.robot.len(),
                     margin: solution.margin,
+                    significance: solution.significance,
                 });
             }
             self.scores[k].push(score_scene(&human_ids, &predicted, &pair.ground_truth));

@@ -27,6 +27,9 @@ pub struct Solution {
     /// of the chance scores beyond the best chance reaches (`rigid`, when
     /// measured); `None` otherwise.
     pub margin: Option<f64>,
+    /// `-log10` of the motion's number of false alarms against chance
+    /// (`rigid`, for motions of at least four pairs); `None` otherwise.
+    pub significance: Option<f64>,
 }
 
 impl Solution {

@@ -1,12 +1,16 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 //! `rigid` on views with nothing in common: every partner it gives is
-//! wrong, so at most 1% of its answers may be `ok` (a partner with
-//! confidence at least the matcher's ambiguity threshold, 0.5).
+//! wrong, so it should rarely answer `ok` (a partner with confidence at
+//! least the matcher's ambiguity threshold, 0.5).
 //!
-//! Ignored: slow, and not met today. `tools/method-tables.sh` measures the
-//! same on the reporting files' unrelated views (docs/method.md: 14% of
-//! answers `ok` on the build that wrote it). Run with
+//! The line held: at most 10% of answers `ok` over these sets (122 of
+//! 1374, 8.9%, on the build with the significance test: docs/method.md,
+//! "Coincidence"; every random cloud of 64 and 256 objects is answered
+//! without an `ok` partner, the small scenes are not). Issue 15's target, 1%, is not met; its
+//! test is ignored:
 //! `cargo test --release -p vref-sim --test coincidence -- --ignored`.
+//! `tools/method-tables.sh` measures the same on the reporting files'
+//! unrelated views.
 
 use vref_match::{Evaluation, Method, Params};
 use vref_scene::ScenePair;
@@ -27,9 +31,9 @@ fn ok_answers(pairs: &[ScenePair]) -> (usize, usize) {
     (answers.len(), ok)
 }
 
-#[test]
-#[ignore = "slow; the 1% target is not met yet (docs/method.md)"]
-fn unrelated_views_are_rarely_answered_ok() {
+/// `(ok, answers, per-set summary)` over the unrelated sets: both presets'
+/// scenes across scenes and shuffled, and random clouds of 8, 64 and 256.
+fn unrelated_ok() -> (usize, usize, String) {
     let mut sets: Vec<(String, Vec<ScenePair>)> = Vec::new();
     for (preset, seed) in [(Preset::Moi, 71), (Preset::Mrc, 72)] {
         let generator = Generator::new(preset.config(), seed).unwrap();
@@ -54,9 +58,21 @@ fn unrelated_views_are_rarely_answered_ok() {
         ok += k;
         lines.push(format!("{name}: {k} of {a}"));
     }
+    (ok, answers, lines.join(", "))
+}
+
+#[test]
+fn unrelated_views_are_seldom_answered_ok() {
+    let (ok, answers, lines) = unrelated_ok();
     assert!(
-        ok * 100 <= answers,
-        "{ok} of {answers} answers ok: {}",
-        lines.join(", ")
+        ok * 100 <= 10 * answers,
+        "{ok} of {answers} answers ok: {lines}"
     );
+}
+
+#[test]
+#[ignore = "issue 15's 1% target is not met (docs/method.md, \"Coincidence\")"]
+fn unrelated_views_are_rarely_answered_ok() {
+    let (ok, answers, lines) = unrelated_ok();
+    assert!(ok * 100 <= answers, "{ok} of {answers} answers ok: {lines}");
 }

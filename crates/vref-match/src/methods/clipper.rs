@@ -140,6 +140,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         converged,
         motion: None,
         margin: None,
+        significance: None,
     }
 }
 

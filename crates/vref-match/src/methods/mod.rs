@@ -137,6 +137,7 @@ pub fn solve_with(
         converged: soft.converged,
         motion: None,
         margin: None,
+        significance: None,
     })
 }
 

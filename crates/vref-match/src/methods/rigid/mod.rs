@@ -12,6 +12,7 @@ mod noise;
 mod params;
 mod search;
 mod side;
+mod significance;
 
 use crate::rigid::{RigidMotion, median_spacing};
 use crate::{Params, Problem, Solution, hungarian_max};
@@ -76,6 +77,17 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         }
     }
     let (soft, unmatched) = row_shares(&cost, n, m, rp.unmatched_cost);
+    // How many pairs the motion explains against chance (`significance`):
+    // its pairs as assigned, before any is withheld.
+    let significance = motion.as_ref().and_then(|t| {
+        let inliers: Vec<f64> = assignment
+            .iter()
+            .enumerate()
+            .filter_map(|(i, a)| a.map(|j| cost[i * m + j]))
+            .collect();
+        let chance = chance_costs(problem, &log_g, spacing, rp, &costs, t);
+        significance::log10_nfa(&inliers, n, &chance).map(|l| -l)
+    });
     // How far the motion stands above what chance explains in a view of
     // this scene that no motion explains: the calibration weighs it.
     let margin = match &found {
@@ -151,8 +163,22 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         assignment[i] = Some(j);
         confidence[i] = raw;
     }
+    // A motion is taken as real when either test says chance does not
+    // explain it: at most `false_alarms` expected false alarms for its pair
+    // count (`significance.rs`), or a score margin over sampled chance
+    // scores of at least `margin_floor` (`coincidence.rs`; a settled scene
+    // has an infinite one). Each alone lets through more unrelated views at
+    // the same loss on real ones (docs/method.md, "Coincidence").
+    let significant = rp.false_alarms <= 0.0
+        || significance.is_some_and(|s| s >= -rp.false_alarms.log10())
+        || margin >= rp.margin_floor;
     for (c, a) in confidence.iter_mut().zip(&assignment) {
         *c = rp.calibration.probability(*c, a.is_none(), margin);
+        // A partner resting on a motion that chance explains as well is
+        // not given as sure: at most `chance_cap`.
+        if a.is_some() && !significant {
+            *c = c.min(rp.chance_cap);
+        }
     }
     Solution {
         soft,
@@ -162,6 +188,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         converged,
         motion,
         margin: margin.is_finite().then_some(margin),
+        significance,
     }
 }
 
@@ -197,6 +224,43 @@ fn appearance_log_likelihood(problem: &Problem, temperature: f64, floor: f64) ->
                 .map(|&a| ((1.0 - floor) * ((a - best) / temperature).exp() + floor).ln()),
         );
     }
+    out
+}
+
+/// Null views drawn at most per solve for the chance costs.
+const MAX_NULL_VIEWS: usize = 64;
+
+/// The chance costs of [`significance`]: every row's cheapest pair under
+/// `motion` in views of this scene whose human places are shuffled in
+/// their plane (about `rp.chance_rows` rows in all, at least one view),
+/// with the scene's noise scales; sorted ascending. Empty when off.
+fn chance_costs(
+    problem: &Problem,
+    log_g: &[f64],
+    spacing: f64,
+    rp: &RigidParams,
+    costs: &Costs<'_>,
+    motion: &RigidMotion,
+) -> Vec<f64> {
+    let n = problem.n;
+    if n == 0 || problem.m == 0 || rp.chance_rows == 0 {
+        return Vec::new();
+    }
+    let views = rp.chance_rows.div_ceil(n).clamp(1, MAX_NULL_VIEWS);
+    let mut out = Vec::with_capacity(views * n);
+    let mut row = vec![0.0; problem.m];
+    for v in 0..views {
+        let null = coincidence::null_view(problem, rp.seed.wrapping_add(v as u64));
+        let mut null_costs = Costs::new(&null, log_g, spacing, rp);
+        if let Some(noise) = costs.rays.as_ref().map(|r| r.noise) {
+            null_costs = null_costs.with_noise(noise);
+        }
+        for i in 0..n {
+            null_costs.row(i, motion, &mut row);
+            out.push(row.iter().copied().fold(f64::INFINITY, f64::min));
+        }
+    }
+    out.sort_by(f64::total_cmp);
     out
 }
 

@@ -104,6 +104,22 @@ pub struct RigidParams {
     /// chance in the scene; a partner is only as sure as the best motion is
     /// unlike chance (0: not measured, every motion taken as real).
     pub chance_samples: usize,
+    /// Rows of shuffled copies of the scene (about; whole copies, at most
+    /// 64) whose cheapest pairs under the best motion measure the chance
+    /// rate of the significance test (`significance.rs`); 0: not measured.
+    pub chance_rows: usize,
+    /// Expected false alarms a motion may have and still be taken as
+    /// real. A motion with more (or that explains under four pairs) and
+    /// whose score margin over chance is below `margin_floor` is taken as
+    /// chance: its partners get at most `chance_cap` as confidence, so
+    /// that they are not `ok`. 0: every motion is taken as real.
+    pub false_alarms: f64,
+    /// The score margin over chance (`chance_samples`) that takes a motion
+    /// as real whatever its false alarms.
+    pub margin_floor: f64,
+    /// The confidence a partner of a motion chance explains is capped at
+    /// (below the matcher's ambiguity threshold, 0.5).
+    pub chance_cap: f64,
     /// The densest consistent cluster of candidate pairs (`clipper`) gives
     /// the search one more hypothesis in scenes of at most this many
     /// pairs (n x m); 0 never.
@@ -143,6 +159,10 @@ impl Default for RigidParams {
             same_side: true,
             chance_samples: 32,
             clipper_seed_pairs: 0,
+            chance_rows: 512,
+            false_alarms: 1000.0,
+            margin_floor: 0.25,
+            chance_cap: 0.45,
 
             seed: 0x5eed,
             calibration: Calibration::default(),
@@ -206,6 +226,27 @@ impl RigidParams {
                 name: "rigid.depth_error",
                 value: self.depth_error,
                 expected: "zero or positive and finite",
+            });
+        }
+        if !(self.false_alarms.is_finite() && self.false_alarms >= 0.0) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.false_alarms",
+                value: self.false_alarms,
+                expected: "zero or positive and finite",
+            });
+        }
+        if self.margin_floor.is_nan() {
+            return Err(MatchError::BadParameter {
+                name: "rigid.margin_floor",
+                value: self.margin_floor,
+                expected: "a number",
+            });
+        }
+        if !(0.0..=1.0).contains(&self.chance_cap) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.chance_cap",
+                value: self.chance_cap,
+                expected: "in [0, 1]",
             });
         }
         if !(0.0..=1.0).contains(&self.abstain_motion) {
