@@ -90,6 +90,12 @@ for line in sys.stdin:
     d = json.loads(line); d["gap"] = int(sys.argv[1]); print(json.dumps(d))' "$gap" >> "$out/cmu-house.json"
 done
 
+for gap in 0 50 90; do
+  file=$work/cmu-keep25-gap$gap.jsonl
+  "$vref" import cmu-house "$data/cmu_house" --gap "$gap" --delaunay --keep 25 --seed 1 --out "$file" 2>/dev/null
+  "$vref" eval --dataset "$file" --beta 2500 --method rigid --method rrwm --json 2>/dev/null
+done > "$out/cmu-house-keep25.json"
+
 if [ "$mode" = full ]; then
   step "noise sweeps (moi)"
   "$vref" eval --sweep depth-noise --preset moi --out docs/sweep-depth-moi.png --json > "$out/sweep-depth-moi.json" 2>/dev/null
