@@ -174,7 +174,7 @@ mod tests {
     /// and every corner lies on the image (corners included).
     fn well_formed(polygon: &[[u32; 2]], w: u32, h: u32) {
         let n = polygon.len();
-        assert!(n >= 4 && n % 2 == 0, "{polygon:?}");
+        assert!(n >= 4 && n.is_multiple_of(2), "{polygon:?}");
         for i in 0..n {
             let [a, b, c] = [0, 1, 2].map(|k| polygon[(i + k) % n]);
             assert!(a[0] == b[0] || a[1] == b[1], "diagonal side {a:?} {b:?}");
@@ -254,7 +254,7 @@ mod tests {
             let (dx, dy) = (x as f64 - 12.3, y as f64 - 14.8);
             let disc = dx * dx + dy * dy < 64.0;
             let bar = y == 14 && x > 10;
-            let specks = x == y + 20 && x % 2 == 0;
+            let specks = x == y + 20 && x.is_multiple_of(2);
             let (rx, ry) = (x as f64 - 30.0, y as f64 - 6.0);
             let r2 = rx * rx + ry * ry;
             disc || bar || specks || (9.0..25.0).contains(&r2)
