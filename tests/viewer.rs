@@ -3,8 +3,10 @@
 //! updates; an MCAP recording reads back with the `mcap` crate (channels,
 //! schemas, counts, the raw messages bit for bit), in Python's `mcap`
 //! package too where it is installed, and replays to the same answers.
-//! The matcher of this build does not publish its decision yet: the
-//! tests publish one themselves, as the matcher will.
+//! The decisions drawn are the matcher's own, published after each solve;
+//! the dataset feeds publish no rays, so the tests point themselves. With
+//! `--images`, the BOP scenes' images, calibrations and mask outlines
+//! read back too.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod support;
@@ -26,12 +28,8 @@ use support::table::table_harness;
 use vref_inject::{VALID_FEATURE_DIM, robot_id, valid_objects};
 use vref_scene::Side;
 use vref_wire::bytes::take_sample;
-use vref_wire::ipc::{
-    DecisionPublisher, GesturePublisher, IpcSettings, ReferenceClient, create_node,
-};
-use vref_wire::{
-    AnswerStatus, DecisionEntry, DecisionHeader, ObjectEntry, ReferenceAnswer, SnapshotHeader,
-};
+use vref_wire::ipc::{GesturePublisher, IpcSettings, ReferenceClient, create_node};
+use vref_wire::{AnswerStatus, ObjectEntry, ReferenceAnswer, SnapshotHeader};
 
 const TOPICS: [&str; 9] = [
     "/vref/scene",
@@ -81,47 +79,25 @@ fn answers(client: &mut ReferenceClient) -> Vec<ReferenceAnswer> {
     })
 }
 
-/// Publishes the table's true decision (what the matcher will publish
-/// after each solve) and a ray pointing at human object 2 (the dataset
-/// feeds publish none) every 100 ms until stopped.
-struct Decider {
+/// Publishes a ray pointing at human object 2 (the dataset feeds publish
+/// none) every 100 ms until stopped.
+struct Pointer {
     stop: Arc<AtomicBool>,
     thread: Option<JoinHandle<u64>>,
 }
 
-impl Decider {
+impl Pointer {
     fn start(ipc: &IpcSettings) -> Self {
         let stop = Arc::new(AtomicBool::new(false));
         let stopped = stop.clone();
         let ipc = ipc.clone();
         let thread = std::thread::spawn(move || {
-            let node = create_node(&ipc, "test-decider").unwrap();
-            let mut publisher = DecisionPublisher::new(&node, &ipc).unwrap();
+            let node = create_node(&ipc, "test-pointer").unwrap();
             let mut rays = GesturePublisher::new(&node, &ipc).unwrap();
             let humans = valid_objects(Side::Human);
             let mut published = 0;
             while !stopped.load(Ordering::Relaxed) {
                 published += 1;
-                let header = DecisionHeader {
-                    solve_index: published,
-                    // The table's robot view is the human view turned a
-                    // quarter about the vertical and shifted.
-                    rotation: [0.0, 0.0, 1.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0],
-                    translation: [-0.9, 0.02, 1.0],
-                    flags: DecisionHeader::FLAG_MOTION,
-                    method: *b"rigid\0\0\0\0\0\0\0\0\0\0\0",
-                    ..DecisionHeader::default()
-                };
-                publisher
-                    .publish(header, humans.len(), |i| DecisionEntry {
-                        human_track_id: humans[i].track_id,
-                        robot_track_id: robot_id(humans[i].track_id),
-                        confidence: 0.95,
-                        status: AnswerStatus::Ok as u32,
-                        flags: DecisionEntry::FLAG_PARTNER,
-                        reserved: 0,
-                    })
-                    .unwrap();
                 rays.publish([0.0; 3], humans[1].position, 0.05, 0.9)
                     .unwrap();
                 std::thread::sleep(Duration::from_millis(100));
@@ -140,7 +116,7 @@ impl Decider {
     }
 }
 
-impl Drop for Decider {
+impl Drop for Pointer {
     fn drop(&mut self) {
         self.stop();
     }
@@ -189,7 +165,7 @@ fn printed(stdout: &str, label: &str) -> u64 {
 fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answers() {
     let (mut h, ipc, source) = table_harness("mcap");
     start_system(&mut h, &source);
-    let mut decider = Decider::start(&ipc);
+    let mut pointer = Pointer::start(&ipc);
     let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
     let live = answers(&mut client);
 
@@ -209,7 +185,7 @@ fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answ
         Duration::from_secs(60),
     )
     .ok();
-    decider.stop();
+    pointer.stop();
     let bytes = std::fs::read(&out).unwrap();
 
     // Channels and schemas, as a reader that vref did not write sees them.
@@ -267,6 +243,7 @@ fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answ
     // scenes draw it with the decision's colours.
     let robot = valid_objects(Side::Robot);
     let mut last_scene = None;
+    let mut last_decision = None;
     let mut answered = Vec::new();
     for message in mcap::MessageStream::new(&bytes).unwrap() {
         let message = message.unwrap();
@@ -288,6 +265,10 @@ fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answ
                 }
             }
             "/vref/scene" => last_scene = Some(SceneUpdate::decode(&message.data[..]).unwrap()),
+            "/vref/matcher/decision" => {
+                last_decision =
+                    Some(serde_json::from_slice::<serde_json::Value>(&message.data).unwrap());
+            }
             "/vref/answer" => {
                 let a: serde_json::Value = serde_json::from_slice(&message.data).unwrap();
                 answered.push((a["status"].clone(), a["robot_track_id"].clone()));
@@ -302,6 +283,21 @@ fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answ
     // The viewer's own latest-gesture queries: the ray points at human 2.
     let want = (serde_json::json!("ok"), serde_json::json!(robot_id(2)));
     assert!(answered.contains(&want), "{answered:?}");
+    // The matcher's own decision: every human object matched to its
+    // partner, with the motion estimated.
+    let decision = last_decision.expect("the matcher's decisions");
+    assert_eq!(decision["motion_estimated"], true, "{decision}");
+    let pairs = decision["pairs"].as_array().unwrap();
+    assert_eq!(pairs.len(), 6, "{decision}");
+    for p in pairs {
+        let human = p["human_track_id"].as_u64().unwrap();
+        assert_eq!(p["status"], "ok", "{decision}");
+        assert_eq!(
+            p["robot_track_id"].as_u64(),
+            Some(robot_id(human)),
+            "{decision}"
+        );
+    }
     let scene = last_scene.unwrap();
     let entity = |id: &str| scene.entities.iter().find(|e| e.id == id).unwrap();
     assert_eq!(entity("robot/objects").spheres.len(), 6);
@@ -309,16 +305,15 @@ fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answ
     assert_eq!(entity("ray").arrows.len(), 1);
     let pairs = &entity("pairs").lines;
     assert_eq!(pairs.len(), 6);
-    // Placed by the motion, each human object lands on its partner (within
-    // a centimetre: once the matcher publishes its own estimate beside the
-    // test's exact one, either may be the last).
+    // Placed by the matcher's estimated motion, each human object lands on
+    // its partner (within a centimetre: the estimate is a fit).
     for line in pairs {
         let (a, b) = (line.points[0], line.points[1]);
         let gap = ((a.x - b.x).powi(2) + (a.y - b.y).powi(2) + (a.z - b.z).powi(2)).sqrt();
         assert!(gap < 0.01, "pair line of {gap} m");
     }
 
-    python_reads(&out);
+    python_reads(&out, &TOPICS, "foxglove.SceneUpdate");
 
     // Replay: the feeds publish the recording, and the matcher answers as
     // it did live.
@@ -347,20 +342,23 @@ fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answ
 }
 
 /// Python's `mcap` package (a reader vref did not write), if installed:
-/// the same channels and schema names, and as many messages as the Rust
-/// reader counts. Skipped, saying so, where it is not installed.
-fn python_reads(path: &std::path::Path) {
+/// the `topics` and schema names, and as many messages as the Rust reader
+/// counts. Skipped, saying so, where it is not installed. `VREF_PYTHON`
+/// names the interpreter (tools/test.sh gives its virtual environment's,
+/// which has the package), else `python3`.
+fn python_reads(path: &std::path::Path, topics: &[&str], schema: &str) {
     let script = support::repo_root().join("tools/check-mcap.py");
-    let probe = Command::new("python3")
+    let python = std::env::var("VREF_PYTHON").unwrap_or_else(|_| "python3".to_owned());
+    let probe = Command::new(&python)
         .args(["-c", "import mcap"])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .status();
     if !probe.is_ok_and(|s| s.success()) {
-        eprintln!("python3 with the mcap package not found: Python check skipped");
+        eprintln!("{python} with the mcap package not found: Python check skipped");
         return;
     }
-    let out = Command::new("python3")
+    let out = Command::new(&python)
         .arg(&script)
         .arg(path)
         .output()
@@ -371,10 +369,10 @@ fn python_reads(path: &std::path::Path) {
         "{}\n{stdout}",
         String::from_utf8_lossy(&out.stderr)
     );
-    for topic in TOPICS {
+    for topic in topics {
         assert!(stdout.contains(topic), "{topic} not in {stdout}");
     }
-    assert!(stdout.contains("foxglove.SceneUpdate"), "{stdout}");
+    assert!(stdout.contains(schema), "{stdout}");
 }
 
 /// A child process killed if the test ends early.
@@ -430,7 +428,7 @@ fn start_view(h: &Harness) -> (Reaped, u16) {
 fn a_foxglove_websocket_client_receives_scene_updates_from_vref_view() {
     let (mut h, ipc, source) = table_harness("view");
     start_system(&mut h, &source);
-    let _decider = Decider::start(&ipc);
+    let _pointer = Pointer::start(&ipc);
     let (mut view, port) = start_view(&h);
 
     let stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
@@ -542,12 +540,14 @@ fn view_help_lists_its_flags_and_bad_input_exits_2() {
         "--duration",
         "--scene-rate",
         "--answer-rate",
+        "--images",
         "--config",
     ] {
         assert!(run.stdout.contains(flag), "view --help lacks {flag}");
     }
     let run = support::vref(&["record", "--help"], limit).ok();
     assert!(run.stdout.contains("FILE.mcap"), "{}", run.stdout);
+    assert!(run.stdout.contains("--images"), "{}", run.stdout);
 
     // Nothing to serve and nothing to write.
     let run = support::vref(&["view", "--no-listen"], limit);
@@ -572,4 +572,225 @@ fn view_help_lists_its_flags_and_bad_input_exits_2() {
     );
     let run = support::vref(&["view", "--answer-rate", "-1"], limit);
     assert_eq!(run.code, Some(2), "{}", run.stderr);
+    // Images come from bop:DIR, a folder that exists, and into MCAP only.
+    let run = support::vref(&["view", "--images", "/tmp"], limit);
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    let run = support::vref(
+        &[
+            "view",
+            "--no-listen",
+            "--mcap",
+            "/tmp/never-written.mcap",
+            "--images",
+            "bop:/nonexistent-bop",
+        ],
+        limit,
+    );
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("/nonexistent-bop"), "{}", run.stderr);
+    let run = support::vref(
+        &[
+            "record",
+            "--out",
+            "/tmp/never-written.vrec",
+            "--duration",
+            "1s",
+            "--images",
+            "bop:/nonexistent-bop",
+        ],
+        limit,
+    );
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("MCAP"), "{}", run.stderr);
+}
+
+const IMAGE_TOPICS: [(&str, &str); 6] = [
+    ("/vref/robot/image", "foxglove.CompressedImage"),
+    ("/vref/robot/calibration", "foxglove.CameraCalibration"),
+    ("/vref/robot/annotations", "foxglove.ImageAnnotations"),
+    ("/vref/human/image", "foxglove.CompressedImage"),
+    ("/vref/human/calibration", "foxglove.CameraCalibration"),
+    ("/vref/human/annotations", "foxglove.ImageAnnotations"),
+];
+
+/// The scene whose `side` objects a raw snapshot carries.
+fn scene_of_snapshot(world: &vref_feed::BopWorld, side: Side, data: &[u8]) -> Option<String> {
+    let (_, entries): (SnapshotHeader, Vec<ObjectEntry>) = take_sample("snapshot", data).unwrap();
+    let first = entries.first()?.track_id;
+    world
+        .pairs()
+        .iter()
+        .find(|p| {
+            let graph = match side {
+                Side::Robot => &p.robot,
+                Side::Human => &p.human,
+            };
+            graph.index_of(first).is_some()
+        })
+        .map(|p| p.name.clone())
+}
+
+#[test]
+fn vref_view_images_show_each_bop_scene_fed_with_its_mask_outlines() {
+    use foxglove::messages::{CameraCalibration, CompressedImage, ImageAnnotations};
+
+    let table = support::repo_root().join("../shared/data/bop/table");
+    let source = format!("bop:{}", table.display());
+    let mut h = Harness::new("images", "");
+    h.start("matcher", "vref-matcher", &[]);
+    for (name, bin) in [
+        ("perception", "vref-perception-feed"),
+        ("gesture", "vref-gesture-feed"),
+    ] {
+        // A scene a second, so that a few seconds show several.
+        h.start(name, bin, &["--source", &source, "--hold-s", "1"]);
+    }
+    let config = vref_config::Config::from_file(&h.config).unwrap();
+    let mut client = ReferenceClient::connect(&config.ipc, "test-images").unwrap();
+    eventually(Duration::from_secs(60), "answers on BOP scenes", || {
+        let a = client.latest_gesture(Duration::from_millis(300)).ok()?;
+        matches!(a.status(), AnswerStatus::Ok | AnswerStatus::Ambiguous).then_some(())
+    });
+
+    let out = h.dir.path().join("bop.mcap");
+    let run = support::vref(
+        &[
+            "view",
+            "--no-listen",
+            "--images",
+            &source,
+            "--mcap",
+            out.to_str().unwrap(),
+            "--duration",
+            "4s",
+            "--answer-rate",
+            "0",
+            "--config",
+            h.config_arg(),
+        ],
+        Duration::from_secs(120),
+    )
+    .ok();
+    let bytes = std::fs::read(&out).unwrap();
+
+    // The image channels, in Foxglove's schemas, each with messages, as
+    // many as the viewer said it wrote.
+    let channels = summary(&bytes);
+    for (topic, schema) in IMAGE_TOPICS {
+        let (encoding, name, schema_encoding, count) = &channels
+            .get(topic)
+            .unwrap_or_else(|| panic!("no {topic} in {channels:?}"));
+        assert_eq!(
+            (encoding.as_str(), name.as_str(), schema_encoding.as_str()),
+            ("protobuf", schema, "protobuf"),
+            "{topic}"
+        );
+        assert!(*count >= 1, "{topic}: no messages");
+    }
+    let count = |topic: &str| channels[topic].3;
+    assert_eq!(
+        count("/vref/robot/image") + count("/vref/human/image"),
+        printed(&run.stdout, "images")
+    );
+    assert_eq!(
+        count("/vref/robot/calibration") + count("/vref/human/calibration"),
+        printed(&run.stdout, "calibrations")
+    );
+    assert_eq!(
+        count("/vref/robot/annotations") + count("/vref/human/annotations"),
+        printed(&run.stdout, "image annotations")
+    );
+
+    // The scenes as the feeds measure them: which objects each image has.
+    let world =
+        vref_feed::BopWorld::load(&table, config.perception, config.scene.limits(), 1.0).unwrap();
+    let mut latest_snapshot: [Option<String>; 2] = [None, None];
+    let mut size: [Option<(u32, u32)>; 2] = [None, None];
+    let mut scenes_shown = std::collections::BTreeSet::new();
+    let mut checked = [0; 2];
+    for message in mcap::MessageStream::new(&bytes).unwrap() {
+        let message = message.unwrap();
+        let topic = message.channel.topic.as_str();
+        let (side, k) = if topic.starts_with("/vref/robot/") || topic == "/vref/wire/robot/snapshot"
+        {
+            (Side::Robot, 0)
+        } else if topic.starts_with("/vref/human/") || topic == "/vref/wire/human/snapshot" {
+            (Side::Human, 1)
+        } else {
+            continue;
+        };
+        let frame = ["robot_camera", "headset_camera"][k];
+        match topic.rsplit('/').next().unwrap() {
+            "snapshot" => latest_snapshot[k] = scene_of_snapshot(&world, side, &message.data),
+            "image" => {
+                let image = CompressedImage::decode(&message.data[..]).unwrap();
+                assert_eq!(image.format, "jpeg");
+                assert_eq!(image.data[..2], [0xff, 0xd8], "{topic}: not JPEG bytes");
+                assert_eq!(image.frame_id, frame);
+            }
+            "calibration" => {
+                let c = CameraCalibration::decode(&message.data[..]).unwrap();
+                assert_eq!(c.frame_id, frame);
+                assert!(c.k[0] > 0.0 && c.k[4] > 0.0, "{c:?}");
+                size[k] = Some((c.width, c.height));
+            }
+            "annotations" => {
+                let a = ImageAnnotations::decode(&message.data[..]).unwrap();
+                let scene = a
+                    .metadata
+                    .iter()
+                    .find(|m| m.key == "scene")
+                    .map(|m| m.value.clone())
+                    .unwrap();
+                // The image shown is of the scene being fed.
+                assert_eq!(Some(&scene), latest_snapshot[k].as_ref(), "{topic}");
+                let (pair, source) = world
+                    .pairs()
+                    .iter()
+                    .zip(world.sources())
+                    .find(|(p, _)| p.name == scene)
+                    .unwrap();
+                let (objects, image) = match side {
+                    Side::Robot => (pair.robot.objects(), &source.robot),
+                    Side::Human => (pair.human.objects(), &source.human),
+                };
+                // One outline and one label per object the feed publishes.
+                assert_eq!(a.points.len(), objects.len(), "{scene} {topic}");
+                assert_eq!(a.texts.len(), objects.len(), "{scene} {topic}");
+                let mut ids: Vec<u64> = a
+                    .points
+                    .iter()
+                    .map(|p| p.metadata[0].value.parse().unwrap())
+                    .collect();
+                ids.sort_unstable();
+                let mut want: Vec<u64> = image.track_ids.iter().flatten().copied().collect();
+                want.sort_unstable();
+                assert_eq!(ids, want, "{scene} {topic}");
+                let (w, h) = size[k].expect("a calibration before the annotations");
+                for outline in &a.points {
+                    assert!(outline.points.len() >= 8, "{scene}: {outline:?}");
+                    assert_eq!(outline.points.len() % 2, 0, "segments come in pairs");
+                    for p in &outline.points {
+                        assert!(
+                            (0.0..=f64::from(w)).contains(&p.x)
+                                && (0.0..=f64::from(h)).contains(&p.y),
+                            "{scene}: ({}, {}) off the {w}x{h} image",
+                            p.x,
+                            p.y
+                        );
+                    }
+                }
+                scenes_shown.insert((k, scene));
+                checked[k] += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(checked[0] >= 1 && checked[1] >= 1, "{checked:?}");
+    // The feeds moved on a scene a second: the images followed.
+    let robot_scenes = scenes_shown.iter().filter(|(k, _)| *k == 0).count();
+    assert!(robot_scenes >= 2, "{scenes_shown:?}");
+
+    let topics: Vec<&str> = IMAGE_TOPICS.iter().map(|(t, _)| *t).collect();
+    python_reads(&out, &topics, "foxglove.ImageAnnotations");
 }

@@ -17,6 +17,9 @@ from collections import Counter
 
 from mcap.reader import make_reader
 
+# The mask outlines `vref view --images` writes, decoded when present.
+ANNOTATIONS = ["/vref/robot/annotations", "/vref/human/annotations"]
+
 
 def main(path: str) -> int:
     with open(path, "rb") as f:
@@ -48,7 +51,7 @@ def main(path: str) -> int:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
         last = {}
         for _schema, channel, _message, decoded in reader.iter_decoded_messages(
-            topics=["/vref/scene", "/tf"]
+            topics=["/vref/scene", "/tf", *ANNOTATIONS]
         ):
             last[channel.topic] = decoded
     scene = last.get("/vref/scene")
@@ -62,6 +65,15 @@ def main(path: str) -> int:
     if tf is not None:
         frames = [f"{t.parent_frame_id}->{t.child_frame_id}" for t in tf.transforms]
         print(f"last foxglove.FrameTransforms decoded: {frames}")
+    for topic in ANNOTATIONS:
+        annotations = last.get(topic)
+        if annotations is not None:
+            points = sum(len(p.points) for p in annotations.points)
+            print(
+                f"last foxglove.ImageAnnotations on {topic} decoded: "
+                f"{len(annotations.points)} outlines ({points} points), "
+                f"{len(annotations.texts)} labels"
+            )
     return 1 if failures else 0
 
 

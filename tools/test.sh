@@ -6,17 +6,12 @@
 #   bash tools/test.sh
 #
 # Needs python3 (3.10 or newer) with the venv module, and PyPI for the
-# first run (iceoryx2 0.10.0, numpy, pytest, mypy). Set VREF_VENV to put
-# the environment elsewhere (default target/python-venv).
+# first run (iceoryx2 0.10.0, numpy, pytest, mypy, and mcap with
+# mcap-protobuf-support for tools/check-mcap.py, which tests/viewer.rs
+# runs on the files it records). Set VREF_VENV to put the environment
+# elsewhere (default target/python-venv).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-
-cargo test --workspace --locked
-
-# Every table of the README and docs/ is the one tools/tables.py makes from
-# docs/results/: a table edited by hand, or a result file changed without
-# its table, fails here.
-python3 tools/tables.py --check README.md docs/*.md
 
 venv="${VREF_VENV:-target/python-venv}"
 python="${PYTHON:-python3}"
@@ -24,7 +19,16 @@ if [ ! -x "$venv/bin/python" ]; then
   "$python" -m venv "$venv"
 fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
-  ./clients/python pytest==9.2.0 mypy==2.4.1
+  ./clients/python pytest==9.2.0 mypy==2.4.1 mcap==1.6.0 mcap-protobuf-support==0.6.0
+
+# The viewer's tests read their MCAP files with Python's mcap too.
+VREF_PYTHON="$(realpath "$venv/bin/python")" cargo test --workspace --locked
+
+# Every table of the README and docs/ is the one tools/tables.py makes from
+# docs/results/: a table edited by hand, or a result file changed without
+# its table, fails here.
+python3 tools/tables.py --check README.md docs/*.md
+
 # From the repository root the package under test is the installed one,
 # not clients/python/src.
 "$venv/bin/python" -m pytest -q -p no:cacheprovider clients/python/tests

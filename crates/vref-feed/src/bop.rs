@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use vref_import::{BopDataset, BopImport, BopOptions, datasets_in};
+use vref_import::{BopDataset, BopImport, BopOptions, BopSceneDir, MeasuredView, datasets_in};
 use vref_perception::PerceptionSettings;
 use vref_scene::{Limits, SceneGraph, SceneObject, ScenePair, Side};
 
@@ -29,7 +29,42 @@ const CONE_HALF_ANGLE: f64 = 0.1;
 #[derive(Debug, Clone)]
 pub struct BopWorld {
     pairs: Vec<ScenePair>,
+    sources: Vec<BopSceneSource>,
     hold_s: f64,
+}
+
+/// Where one scene's images are and the track id the feeds publish each
+/// instance under: what a viewer needs to show the images of the scene
+/// being fed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BopSceneSource {
+    /// Dataset folder and scene id, `table/000003`.
+    pub name: String,
+    pub scene: BopSceneDir,
+    pub robot: BopImageSource,
+    pub human: BopImageSource,
+}
+
+/// One view's image of a scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BopImageSource {
+    /// The image's number in the scene folder.
+    pub image: u32,
+    /// Per instance, in `scene_gt.json`'s order (the masks' order): the
+    /// track id its object is published under, `None` where the front end
+    /// skipped the mask.
+    pub track_ids: Vec<Option<u64>>,
+}
+
+impl BopImageSource {
+    fn of(image: u32, view: &MeasuredView, offset: u64) -> Self {
+        Self {
+            image,
+            track_ids: (0..view.track_ids.len())
+                .map(|k| view.measured_id(k).map(|id| id + offset))
+                .collect(),
+        }
+    }
 }
 
 /// Where the person points during one slot.
@@ -69,6 +104,7 @@ impl BopWorld {
             perception,
         };
         let mut pairs = Vec::new();
+        let mut sources = Vec::new();
         for folder in datasets_in(dir, "test").map_err(bop)? {
             let dataset = BopDataset::open(&folder, "test").map_err(bop)?;
             let import = BopImport::run(&dataset, &options);
@@ -76,9 +112,22 @@ impl BopWorld {
                 tracing::warn!("BOP scene {scene} left out: {}", with_causes(error));
             }
             for scene in &import.scenes {
+                let Some(scene_dir) = dataset
+                    .scenes()
+                    .iter()
+                    .find(|d| dataset.scene_name(d) == scene.name)
+                else {
+                    continue;
+                };
                 let offset = SCENE_ID_STRIDE * pairs.len() as u64;
                 let pair = scene.pair(&limits).map_err(bop)?;
                 pairs.push(offset_ids(&pair, offset, &limits).map_err(bop)?);
+                sources.push(BopSceneSource {
+                    name: scene.name.clone(),
+                    scene: scene_dir.clone(),
+                    robot: BopImageSource::of(options.robot_image, &scene.robot, offset),
+                    human: BopImageSource::of(options.human_image, &scene.human, offset),
+                });
             }
         }
         if pairs.is_empty() {
@@ -86,11 +135,20 @@ impl BopWorld {
                 path: dir.to_owned(),
             });
         }
-        Ok(Self { pairs, hold_s })
+        Ok(Self {
+            pairs,
+            sources,
+            hold_s,
+        })
     }
 
     pub fn pairs(&self) -> &[ScenePair] {
         &self.pairs
+    }
+
+    /// Where each scene's images are, in the order of [`Self::pairs`].
+    pub fn sources(&self) -> &[BopSceneSource] {
+        &self.sources
     }
 
     /// Seconds each target is pointed at.

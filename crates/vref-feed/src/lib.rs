@@ -35,7 +35,7 @@ mod synthetic;
 mod ticks;
 
 pub use args::{FeedArgs, SourceSpec};
-pub use bop::{BopGesture, BopWorld};
+pub use bop::{BopGesture, BopImageSource, BopSceneSource, BopWorld};
 pub use error::{EntryError, RunError, SetupError};
 pub use feed::{Feed, Published};
 pub use publication::{Due, Publication, Ray, Target};

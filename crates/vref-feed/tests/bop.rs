@@ -114,3 +114,23 @@ fn both_feeds_show_the_scene_of_the_moment_and_the_gesture_feed_points() {
     let err = Feed::prepare(Role::Perception, &missing, &config).unwrap_err();
     assert!(err.to_string().contains("/nonexistent/bop"), "{err}");
 }
+
+#[test]
+fn each_scene_names_its_images_and_the_track_id_of_every_measured_mask() {
+    let world = world();
+    assert_eq!(world.sources().len(), world.pairs().len());
+    for (pair, source) in world.pairs().iter().zip(world.sources()) {
+        assert_eq!(source.name, pair.name);
+        assert!(source.scene.colour_path(source.robot.image).is_file());
+        assert!(source.scene.colour_path(source.human.image).is_file());
+        for (graph, image) in [(&pair.robot, &source.robot), (&pair.human, &source.human)] {
+            let mut published: Vec<u64> = graph.objects().iter().map(|o| o.id).collect();
+            let mut named: Vec<u64> = image.track_ids.iter().flatten().copied().collect();
+            published.sort_unstable();
+            named.sort_unstable();
+            assert_eq!(named, published, "{}", pair.name);
+            let k = image.track_ids.len().saturating_sub(1);
+            assert!(source.scene.mask_path(image.image, k).is_file());
+        }
+    }
+}

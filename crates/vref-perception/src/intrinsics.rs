@@ -58,6 +58,14 @@ impl Intrinsics {
         self.fy
     }
 
+    pub fn cx(&self) -> f64 {
+        self.cx
+    }
+
+    pub fn cy(&self) -> f64 {
+        self.cy
+    }
+
     /// The point at depth `z` (along the optical axis) seen at pixel
     /// `(u, v)`.
     pub fn back_project(&self, u: f64, v: f64, z: f64) -> [f64; 3] {

@@ -38,6 +38,7 @@ mod front_end;
 mod intrinsics;
 mod load;
 mod noise;
+mod outline;
 mod settings;
 
 pub use error::{FrameError, LoadError, SettingsError};
@@ -47,4 +48,5 @@ pub use front_end::{Detection, FrontEnd, Skipped};
 pub use intrinsics::Intrinsics;
 pub use load::{load_colour, load_depth, load_mask};
 pub use noise::{CameraNoise, DepthLaw};
+pub use outline::{outline_polygons, signed_area};
 pub use settings::{FrontEndSettings, PerceptionSettings};

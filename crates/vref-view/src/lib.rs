@@ -12,18 +12,23 @@
 //! - [`run`] is the viewer process's loop: subscribers only (latest wins),
 //!   plus an optional low-rate latest-gesture query of its own.
 //!
-//! Images (`foxglove.CompressedImage` and mask outlines) will follow the
-//! perception front end.
+//! - [`images`] holds the cameras' images when the feeds measure images:
+//!   `foxglove.CompressedImage`, `foxglove.CameraCalibration` and the
+//!   masks' outlines as `foxglove.ImageAnnotations`, pure;
+//!   [`load_bop_images`] reads them from the BOP dataset the feeds show.
 
+mod bop;
 mod channels;
 mod error;
 mod frames;
 mod geometry;
+pub mod images;
 pub mod json;
 mod live;
 mod scene;
 mod state;
 
+pub use bop::{ImagesError, load_bop_images};
 pub use channels::{Channels, is_wire, topic};
 pub use error::ViewError;
 pub use frames::{FrameNames, HUMAN_FRAME, Placement, ROBOT_FRAME, WORLD_FRAME, transforms};

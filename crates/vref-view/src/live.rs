@@ -1,8 +1,9 @@
 //! The viewer as a process: subscribes to vref's services (latest wins,
 //! so it never holds a publisher back), keeps the latest of each, and
-//! logs scenes, transforms and messages to a Foxglove WebSocket server
-//! and/or an MCAP file. The matcher sees one more subscriber per service
-//! and, if asked for, one latest-gesture query now and then.
+//! logs scenes, transforms, messages and (when given) the cameras'
+//! images to a Foxglove WebSocket server and/or an MCAP file. The matcher
+//! sees one more subscriber per service and, if asked for, one
+//! latest-gesture query now and then.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -27,6 +28,7 @@ use vref_wire::ipc::{
 
 use crate::channels::{Channels, is_wire};
 use crate::frames::{FrameNames, Placement, transforms};
+use crate::images::{Images, annotation_key, annotations, calibration, compressed_image};
 use crate::scene::{marker_size, scene};
 use crate::state::{Asked, Latest, View};
 use crate::{ViewError, json};
@@ -38,6 +40,10 @@ const ANSWER_TIMEOUT: Duration = Duration::from_millis(250);
 const KEEPALIVE: Duration = Duration::from_secs(1);
 /// Longest sleep between checks of the clock and the stop flag.
 const TICK: Duration = Duration::from_millis(100);
+/// A camera's image (about 55 KB for a BOP JPEG) is logged when its scene
+/// changes and again this often, so that a client that connects late
+/// sees one within this time; more often would only grow the files.
+const IMAGE_KEEPALIVE: Duration = Duration::from_secs(2);
 
 /// What to view, where, for how long.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,6 +61,9 @@ pub struct ViewOptions {
     /// Latest-gesture queries per second (0: none), whose answers are
     /// shown: the viewer cannot see other clients' answers.
     pub answer_rate_hz: f64,
+    /// The cameras' images of every scene the feeds may show; each
+    /// camera's image follows the scene its latest snapshot is of.
+    pub images: Option<Arc<Images>>,
 }
 
 /// What is known once the outputs are open.
@@ -74,6 +83,9 @@ pub struct Counts {
     pub answers: u64,
     pub stats: u64,
     pub decisions: u64,
+    /// Images logged, both cameras; as many calibrations go with them.
+    pub images: u64,
+    pub annotations: u64,
 }
 
 impl Counts {
@@ -105,6 +117,8 @@ impl Counts {
             + self.answers
             + self.stats
             + self.decisions
+            + 2 * self.images
+            + self.annotations
     }
 }
 
@@ -117,7 +131,7 @@ pub fn run(
     on_started: impl FnOnce(&Started),
 ) -> Result<Counts, ViewError> {
     let ctx = Context::new();
-    let channels = Channels::new(&ctx)?;
+    let channels = Channels::new(&ctx, options.images.is_some())?;
     let mcap = match &options.mcap {
         Some(path) => {
             let file = File::create(path).map_err(|source| ViewError::Create {
@@ -288,6 +302,7 @@ fn watch(
     let mut bytes = Vec::new();
     let mut changed = false;
     let mut last_scene: Option<Instant> = None;
+    let mut shown = [Shown::default(), Shown::default()];
     let failure = 'outer: loop {
         let now = Instant::now();
         if end.is_some_and(|end| now >= end) {
@@ -394,19 +409,36 @@ fn watch(
             let since = t.elapsed();
             (changed && since >= period) || since >= KEEPALIVE
         });
-        if due && (channels.scene.has_sinks() || channels.tf.has_sinks()) {
+        if due {
             let names = FrameNames::of(&latest);
-            let placement = Placement::of(&latest, 3.0 * marker_size(&latest));
             let time = timestamp(now_ns());
-            if channels.tf.has_sinks() {
-                channels.tf.log(&transforms(&names, &placement, time));
-                counts.transforms += 1;
+            if channels.scene.has_sinks() || channels.tf.has_sinks() {
+                let placement = Placement::of(&latest, 3.0 * marker_size(&latest));
+                if channels.tf.has_sinks() {
+                    channels.tf.log(&transforms(&names, &placement, time));
+                    counts.transforms += 1;
+                }
+                if channels.scene.has_sinks() {
+                    channels
+                        .scene
+                        .log(&scene(&latest, &names, &placement, time));
+                    counts.scenes += 1;
+                }
             }
-            if channels.scene.has_sinks() {
-                channels
-                    .scene
-                    .log(&scene(&latest, &names, &placement, time));
-                counts.scenes += 1;
+            if let Some(images) = &options.images {
+                let [robot, human] = &mut shown;
+                for (side, shown) in [(Side::Robot, robot), (Side::Human, human)] {
+                    show_camera(
+                        images,
+                        side,
+                        &latest,
+                        &names,
+                        channels,
+                        shown,
+                        time,
+                        &mut counts,
+                    );
+                }
             }
             last_scene = Some(Instant::now());
             changed = false;
@@ -418,6 +450,64 @@ fn watch(
     match failure {
         Some(e) => Err(e),
         None => Ok(counts),
+    }
+}
+
+/// What one camera's channels last showed.
+#[derive(Debug, Default)]
+struct Shown {
+    scene: Option<usize>,
+    image_at: Option<Instant>,
+    annotations: Vec<String>,
+    annotations_at: Option<Instant>,
+}
+
+/// Logs the image of the scene `side`'s latest snapshot is of, when that
+/// scene changed or the last image is [`IMAGE_KEEPALIVE`] old, and its
+/// outlines when what they show changed or is [`KEEPALIVE`] old.
+#[allow(clippy::too_many_arguments)]
+fn show_camera(
+    images: &Images,
+    side: Side,
+    latest: &Latest,
+    names: &FrameNames,
+    channels: &Channels,
+    shown: &mut Shown,
+    time: Timestamp,
+    counts: &mut Counts,
+) {
+    let (view, frame) = match side {
+        Side::Robot => (&latest.robot, &names.robot),
+        Side::Human => (&latest.human, &names.human),
+    };
+    let Some(channels) = channels.camera(side).filter(|c| c.has_sinks()) else {
+        return;
+    };
+    let Some((index, scene)) = view
+        .as_ref()
+        .and_then(|v| images.scene_of(side, v))
+        .and_then(|k| Some((k, images.scenes().get(k)?)))
+    else {
+        return;
+    };
+    let camera = scene.camera(side);
+    let new_scene = shown.scene != Some(index);
+    let old = |at: Option<Instant>, limit: Duration| at.is_none_or(|t| t.elapsed() >= limit);
+    if new_scene || old(shown.image_at, IMAGE_KEEPALIVE) {
+        channels.image.log(&compressed_image(camera, frame, time));
+        channels.calibration.log(&calibration(camera, frame, time));
+        counts.images += 1;
+        shown.scene = Some(index);
+        shown.image_at = Some(Instant::now());
+    }
+    let key = annotation_key(camera, side, latest);
+    if new_scene || key != shown.annotations || old(shown.annotations_at, KEEPALIVE) {
+        channels
+            .annotations
+            .log(&annotations(camera, side, latest, &scene.name, time));
+        counts.annotations += 1;
+        shown.annotations = key;
+        shown.annotations_at = Some(Instant::now());
     }
 }
 

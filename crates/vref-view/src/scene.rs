@@ -124,13 +124,13 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// The decision's outcome per human object and per robot object.
-struct Outcomes<'a> {
+pub(crate) struct Outcomes<'a> {
     human: HashMap<u64, &'a DecisionEntry>,
     robot: HashMap<u64, Outcome>,
 }
 
 impl<'a> Outcomes<'a> {
-    fn of(latest: &'a Latest) -> Self {
+    pub(crate) fn of(latest: &'a Latest) -> Self {
         let mut human = HashMap::new();
         let mut robot = HashMap::new();
         if let Some(d) = &latest.decision {
@@ -144,14 +144,25 @@ impl<'a> Outcomes<'a> {
         Self { human, robot }
     }
 
-    fn human(&self, id: u64) -> Outcome {
+    pub(crate) fn human(&self, id: u64) -> Outcome {
         self.human
             .get(&id)
             .map_or(Outcome::Undecided, |e| Outcome::of_entry(e))
     }
 
-    fn robot(&self, id: u64) -> Outcome {
+    pub(crate) fn robot(&self, id: u64) -> Outcome {
         self.robot.get(&id).copied().unwrap_or(Outcome::Undecided)
+    }
+
+    /// A human object's label: its id and what the matcher made of it.
+    pub(crate) fn human_label(&self, id: u64) -> String {
+        match self.human.get(&id) {
+            Some(e) if e.flags & DecisionEntry::FLAG_PARTNER != 0 => {
+                format!("H{id} -> R{} {:.2}", e.robot_track_id, e.confidence)
+            }
+            Some(e) => format!("H{id} {} {:.2}", self.human(id).name(), e.confidence),
+            None => format!("H{id}"),
+        }
     }
 }
 
@@ -199,14 +210,7 @@ pub fn scene(
                 size: Some(vector([size * 0.8; 3])),
                 color: Some(with_alpha(outcome.color(), 0.85)),
             });
-            let text = match outcomes.human.get(id) {
-                Some(e) if e.flags & DecisionEntry::FLAG_PARTNER != 0 => {
-                    format!("H{id} -> R{} {:.2}", e.robot_track_id, e.confidence)
-                }
-                Some(e) => format!("H{id} {} {:.2}", outcome.name(), e.confidence),
-                None => format!("H{id}"),
-            };
-            human.texts.push(label(*p, size, text));
+            human.texts.push(label(*p, size, outcomes.human_label(*id)));
         }
         human.metadata = vec![
             pair("objects", view.objects.len().to_string()),

@@ -392,6 +392,9 @@ pub struct RecordArgs {
     /// recorded on /vref/answer (0: none, the recorder only subscribes).
     #[arg(long, value_name = "HZ", default_value_t = 0.0, value_parser = rate_or_zero)]
     pub answer_rate: f64,
+    /// MCAP only: also record the cameras' images, as `vref view --images`.
+    #[arg(long, value_name = "bop:DIR", value_parser = images_source)]
+    pub images: Option<PathBuf>,
     /// Configuration file (its [ipc] section says where the feeds are).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
@@ -509,9 +512,26 @@ pub struct ViewArgs {
     /// viewer cannot see other clients' answers); 0: none.
     #[arg(long, value_name = "HZ", default_value_t = 2.0, value_parser = rate_or_zero)]
     pub answer_rate: f64,
+    /// Also show the cameras' images when the feeds run on `--source
+    /// bop:DIR` (give the same DIR and --config): each camera's colour
+    /// image, its calibration and every object's mask outline coloured by
+    /// the decision, for Foxglove's image panel (/vref/robot/image,
+    /// /vref/human/image). Each image follows the scene its latest
+    /// snapshot's track ids belong to.
+    #[arg(long, value_name = "bop:DIR", value_parser = images_source)]
+    pub images: Option<PathBuf>,
     /// Configuration file (its [ipc] section says where the services are).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+/// `bop:DIR`, the one images source so far (the form of the feeds'
+/// `--source bop:DIR`, so that other sources can follow).
+fn images_source(s: &str) -> Result<PathBuf, String> {
+    match s.strip_prefix("bop:") {
+        Some(dir) if !dir.is_empty() => Ok(PathBuf::from(dir)),
+        _ => Err(format!("`{s}` is not bop:DIR")),
+    }
 }
 
 fn rate_or_zero(s: &str) -> Result<f64, String> {

@@ -18,6 +18,13 @@ const TICK: Duration = Duration::from_millis(100);
 
 pub fn run(args: &RecordArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
+    let mcap = args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+    if args.images.is_some() && !mcap {
+        return Err(anyhow!("--images needs an MCAP file (--out FILE.mcap)")).bad_input();
+    }
     if args
         .out
         .extension()
@@ -54,12 +61,17 @@ pub fn run(args: &RecordArgs) -> Result<(), Failure> {
 /// them, written by vref-view with nothing served.
 fn record_mcap(args: &RecordArgs, config: &Config) -> Result<(), Failure> {
     let partial = args.out.with_extension("mcap.tmp");
+    let images = match &args.images {
+        Some(dir) => Some(crate::view::load_images(config, dir)?),
+        None => None,
+    };
     let options = ViewOptions {
         listen: None,
         mcap: Some(partial.clone()),
         duration: Some(args.duration),
         scene_rate_hz: 10.0,
         answer_rate_hz: args.answer_rate,
+        images,
     };
     match vref_view::run(&config.ipc, &options, |_| {}) {
         Ok(counts) => {

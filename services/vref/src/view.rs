@@ -1,6 +1,12 @@
 //! `vref view`: the matcher's decision in Foxglove (crate vref-view).
 
+use std::path::Path;
+use std::sync::Arc;
+
+use anyhow::Context;
 use vref_config::Config;
+use vref_feed::BopWorld;
+use vref_view::images::Images;
 use vref_view::{Counts, Started, ViewError, ViewOptions};
 
 use crate::cli::ViewArgs;
@@ -9,12 +15,17 @@ use crate::stdout;
 
 pub fn run(args: &ViewArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
+    let images = match &args.images {
+        Some(dir) => Some(load_images(&config, dir)?),
+        None => None,
+    };
     let options = ViewOptions {
         listen: (!args.no_listen).then_some(args.listen),
         mcap: args.mcap.clone(),
         duration: args.duration,
         scene_rate_hz: args.scene_rate,
         answer_rate_hz: args.answer_rate,
+        images,
     };
     let ip = args.listen.ip();
     let counts = vref_view::run(&config.ipc, &options, |started: &Started| {
@@ -34,6 +45,22 @@ pub fn run(args: &ViewArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The images of every scene the feeds show with `--source bop:DIR`: the
+/// scenes measured as the feeds measure them (same folder, same
+/// `[perception]` and `[scene]` settings), so that the track ids agree.
+pub fn load_images(config: &Config, dir: &Path) -> Result<Arc<Images>, Failure> {
+    // The feeds' hold time does not matter here: the viewer follows the
+    // snapshots' track ids, not a schedule.
+    let world = BopWorld::load(dir, config.perception, config.scene.limits(), 1.0)
+        .with_context(|| format!("--images bop:{}", dir.display()))
+        .bad_input()?;
+    let images = vref_view::load_bop_images(&world)
+        .with_context(|| format!("--images bop:{}", dir.display()))
+        .bad_input()?;
+    tracing::info!(scenes = images.scenes().len(), "images loaded");
+    Ok(Arc::new(images))
+}
+
 /// A file that cannot be created is the caller's to fix; anything else
 /// broke while running.
 pub fn blame(e: ViewError) -> Failure {
@@ -48,7 +75,8 @@ pub fn describe(c: &Counts) -> String {
     use vref_record::WireChannel::{Decision, Gesture, HumanSnapshot, RobotSnapshot};
     format!(
         "{} messages (robot snapshots {}, human snapshots {}, rays {}, decisions {}; \
-         scene updates {}, transforms {}, answers {}, statistics {})",
+         scene updates {}, transforms {}, answers {}, statistics {}, \
+         images {}, calibrations {}, image annotations {})",
         c.total(),
         c.wire(RobotSnapshot),
         c.wire(HumanSnapshot),
@@ -57,6 +85,9 @@ pub fn describe(c: &Counts) -> String {
         c.scenes,
         c.transforms,
         c.answers,
-        c.stats
+        c.stats,
+        c.images,
+        c.images,
+        c.annotations
     )
 }

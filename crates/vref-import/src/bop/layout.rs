@@ -143,12 +143,7 @@ impl BopSceneDir {
     /// size.
     pub fn load_view(&self, image: u32) -> Result<BopView, ImportError> {
         let key = image.to_string();
-        let camera_path = self.dir.join("scene_camera.json");
-        let cameras: BTreeMap<String, CameraRecord> = read_json(&camera_path)?;
-        let camera = cameras.get(&key).ok_or_else(|| ImportError::MissingImage {
-            path: camera_path.clone(),
-            image,
-        })?;
+        let (camera_path, camera) = self.camera_record(image)?;
         let intrinsics =
             Intrinsics::from_matrix(&camera.cam_k).map_err(|source| ImportError::Frame {
                 path: camera_path.clone(),
@@ -178,10 +173,7 @@ impl BopSceneDir {
             })?;
         let mut masks = Vec::with_capacity(instances.len());
         for k in 0..instances.len() {
-            let path = self
-                .dir
-                .join("mask_visib")
-                .join(format!("{image:06}_{k:06}.png"));
+            let path = self.mask_path(image, k);
             let mask = load_mask(&path)?;
             check_size(&path, mask.dimensions(), &colour_path, size)?;
             masks.push(mask);
@@ -199,9 +191,40 @@ impl BopSceneDir {
         })
     }
 
+    /// Image `image`'s camera record and the file it is in.
+    fn camera_record(&self, image: u32) -> Result<(PathBuf, CameraRecord), ImportError> {
+        let camera_path = self.dir.join("scene_camera.json");
+        let mut cameras: BTreeMap<String, CameraRecord> = read_json(&camera_path)?;
+        match cameras.remove(&image.to_string()) {
+            Some(camera) => Ok((camera_path, camera)),
+            None => Err(ImportError::MissingImage {
+                path: camera_path,
+                image,
+            }),
+        }
+    }
+
+    /// Image `image`'s camera (`cam_K` of `scene_camera.json`), checked.
+    pub fn intrinsics(&self, image: u32) -> Result<Intrinsics, ImportError> {
+        let (path, camera) = self.camera_record(image)?;
+        Intrinsics::from_matrix(&camera.cam_k).map_err(|source| ImportError::Frame {
+            path,
+            image,
+            source,
+        })
+    }
+
+    /// The visible mask of instance `k` (in `scene_gt.json`'s order) in
+    /// image `image`.
+    pub fn mask_path(&self, image: u32, k: usize) -> PathBuf {
+        self.dir
+            .join("mask_visib")
+            .join(format!("{image:06}_{k:06}.png"))
+    }
+
     /// `rgb/IM.jpg`, else `rgb/IM.png` where only that exists (BOP
     /// datasets use both).
-    fn colour_path(&self, image: u32) -> PathBuf {
+    pub fn colour_path(&self, image: u32) -> PathBuf {
         let jpg = self.dir.join("rgb").join(format!("{image:06}.jpg"));
         let png = jpg.with_extension("png");
         if !jpg.exists() && png.exists() {
