@@ -58,8 +58,8 @@ pub struct PaperParams {
     pub max_iter: usize,
 }
 
-/// The live tier's shortcuts, each measured in the README's performance
-/// section.
+/// The live tier's shortcuts (docs/performance.md says what each does
+/// and costs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct LiveParams {

@@ -12,7 +12,7 @@ pub struct Solution {
     pub assignment: Vec<Option<usize>>,
     /// For each row, the probability that its assignment (a partner, or
     /// none) is right: calibrated for `rigid`, the soft row share for the
-    /// published methods (README, "Choices where ALGORITHMS.md leaves
+    /// published methods (docs/method.md, "Choices where ALGORITHMS.md leaves
     /// room").
     pub confidence: Vec<f64>,
     /// Iterations of the method's main loop (0 for closed-form methods).

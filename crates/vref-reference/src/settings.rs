@@ -39,7 +39,7 @@ pub struct MatcherSettings {
     /// top alternatives). `rigid`'s confidence is a calibrated probability
     /// that the answer is right, so the default 0.5 flags answers more
     /// likely wrong than right; the published methods' confidence is only
-    /// a row share (README).
+    /// a row share (docs/method.md).
     pub ambiguity_threshold: f64,
 }
 
