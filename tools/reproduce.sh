@@ -117,6 +117,8 @@ printf '[scene]\ncapacity = 87\n\n[matcher]\nmethod = "paper"\ntier = "exact"\n'
 "$vref" config check "$work/slowest.toml" > /dev/null
 "$vref" bench query --config "$work/slowest.toml" --objects 87 --rate 100 --duration "$bench_s" --compare-idle --json \
   > "$out/bench-query-slowest.json"
+"$vref" bench query --objects 32 --duration "$bench_s" --json > "$out/bench-query-32.json"
+"$vref" bench query --objects 32 --duration "$bench_s" --with-viewer --json > "$out/bench-query-32-viewer.json"
 step "remote round trip (vref bench remote, $bench_s)"
 "$vref" bench remote --duration "$bench_s" --json > "$out/bench-remote.json"
 

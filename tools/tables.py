@@ -281,7 +281,23 @@ def bop_table(rows, arg):
     return out
 
 
-KINDS = {"bop": bop_table, "recording": recording_table, "pygmtools": pygmtools_table, "method": method_table, "coincidence": coincidence_table, "accuracy": accuracy_table,
+def compare_table(rows, arg):
+    """Two `vref bench query` runs side by side: FILE without, ARG with a viewer."""
+    out = ["| run | cached p50 / p99 | bare p50 / p99 | cached / bare p99 | every answer / bare p99 | timeouts |",
+           "|---|---|---|---|---|---|"]
+    for label, path in [("without a viewer", None), ("with `vref view`", arg)]:
+        r = rows[0] if path is None else (lines(path)[0] if path and os.path.exists(path) else None)
+        if r is None:
+            out.append(f"| {label} | not measured | | | | |")
+            continue
+        ratio = r.get("ratio_p99")
+        out.append(f"| {label} | {ms(r['cached_p50_us'])} / {ms(r['cached_p99_us'])} | {ms(r['bare_p50_us'])} / "
+                   f"{ms(r['bare_p99_us'])} | {ratio if ratio is None else f'{ratio:.2f}'} | "
+                   f"{r['ratio_all_p99']:.2f} | {r['timeouts']} |")
+    return out
+
+
+KINDS = {"compare": compare_table, "bop": bop_table, "recording": recording_table, "pygmtools": pygmtools_table, "method": method_table, "coincidence": coincidence_table, "accuracy": accuracy_table,
          "cmu": cmu_table, "solver": solver_table, "query": query_table, "demo": demo_table,
          "soak": soak_table, "remote": remote_table, "python": python_table, "perception": perception_table}
 
