@@ -32,11 +32,9 @@ use crate::Finished;
 use crate::RunError;
 use crate::echo::echo_settings;
 use crate::launch::{FEEDS, Isolation, LaunchError, Services, keep_logs_if, prepare};
-use crate::ready::{Readiness, ReadyError, wait_ready};
+use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::samples::{Samples, ratio, us};
 
-/// How long the services may take to give a first real answer.
-pub const READY_WITHIN: Duration = Duration::from_secs(30);
 /// One query's time limit: well above an exact solve at 64 objects on a
 /// busy 2-core machine, so that a timeout means something is wrong.
 const QUERY_TIMEOUT: Duration = Duration::from_secs(2);
@@ -444,9 +442,7 @@ impl Report {
         config: &Config,
         idle: Option<&Report>,
     ) -> String {
-        let mut table =
-            crate::table::Table::new(&["round trip", "count", "p50 us", "p99 us", "p99.9 us"]);
-        let cell = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.1}"));
+        let mut table = crate::table::Table::new(&crate::samples::ROW_HEADER);
         let mut rows = vec![
             ("every matcher answer", &self.all),
             ("cached answer", &self.cached),
@@ -459,13 +455,7 @@ impl Report {
             rows.push(("bare iceoryx2, idle matcher", &idle.bare));
         }
         for (name, s) in rows {
-            table.row(vec![
-                name.to_owned(),
-                s.count().to_string(),
-                cell(s.percentile(0.5)),
-                cell(s.percentile(0.99)),
-                cell(s.percentile(0.999)),
-            ]);
+            table.row(s.row(name));
         }
         let r = |q| {
             ratio(self.cached.percentile(q), self.bare.percentile(q))

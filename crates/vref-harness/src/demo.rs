@@ -14,11 +14,9 @@ use vref_wire::ipc::ReferenceClient;
 use vref_wire::{AnswerStatus, ReferenceAnswer};
 
 use crate::launch::{Isolation, Services, keep_logs_if, prepare};
-use crate::ready::{Readiness, ReadyError, wait_ready};
+use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::{Finished, RunError, now_s};
 
-/// How long the services may take to give a first answer.
-pub const READY_WITHIN: Duration = Duration::from_secs(30);
 /// One query's time limit.
 const QUERY_TIMEOUT: Duration = Duration::from_secs(1);
 /// BOP source: no query in a slot's first moments, while the feeds'

@@ -6,6 +6,11 @@ use std::time::{Duration, Instant};
 
 use crate::launch::LaunchError;
 
+/// How long freshly started services may take to be ready (a first
+/// answer, a first solve): generous for a cold start on a busy 2-core
+/// machine, so that a timeout means something is wrong.
+pub const READY_WITHIN: Duration = Duration::from_secs(30);
+
 /// What a check found.
 #[derive(Debug)]
 pub enum Readiness<T> {

@@ -21,7 +21,23 @@ impl Samples {
     pub fn percentile(&self, q: f64) -> Option<f64> {
         vref_measure::percentile_of(&self.0, q)
     }
+
+    /// One line of a round-trip table (`ROW_HEADER`): name, count, p50,
+    /// p99, p99.9 in microseconds.
+    pub fn row(&self, name: &str) -> Vec<String> {
+        let cell = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.1}"));
+        vec![
+            name.to_owned(),
+            self.count().to_string(),
+            cell(self.percentile(0.5)),
+            cell(self.percentile(0.99)),
+            cell(self.percentile(0.999)),
+        ]
+    }
 }
+
+/// The columns of `Samples::row`.
+pub const ROW_HEADER: [&str; 5] = ["round trip", "count", "p50 us", "p99 us", "p99.9 us"];
 
 /// Microseconds to one decimal, `null` without samples.
 pub fn us(value: Option<f64>) -> serde_json::Value {

@@ -18,11 +18,9 @@ use vref_wire::{AnswerStatus, MatcherStats};
 use crate::Finished;
 use crate::demo::ask;
 use crate::launch::{Isolation, Services, keep_logs_if, prepare};
-use crate::ready::{Readiness, ReadyError, wait_ready};
+use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::{RunError, now_s};
 
-/// How long the services may take to answer and solve a first time.
-pub const READY_WITHIN: Duration = Duration::from_secs(30);
 /// How long to wait for statistics taken after a given moment (the
 /// matcher publishes every 200 ms).
 const STATS_WITHIN: Duration = Duration::from_secs(5);

@@ -21,10 +21,8 @@ use crate::harness;
 use crate::stdout;
 use crate::table::Table;
 use vref_harness::launch::{self, Isolation, Services, keep_logs_if, prepare};
-use vref_harness::ready::{Readiness, ReadyError, wait_ready};
+use vref_harness::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 
-/// How long the services may take to give a first real answer both ways.
-const READY_WITHIN: Duration = Duration::from_secs(30);
 /// One query's time limit.
 const QUERY_TIMEOUT: Duration = Duration::from_secs(2);
 
@@ -260,19 +258,13 @@ impl Report {
     }
 
     fn table(&self, args: &BenchRemoteArgs) -> String {
-        let mut table = Table::new(&["round trip", "count", "p50 us", "p99 us", "p99.9 us"]);
+        let mut table = Table::new(&vref_harness::samples::ROW_HEADER);
         let cell = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.1}"));
         for (name, s) in [
             ("remote (Zenoh, bridge)", &self.remote),
             ("local (iceoryx2)", &self.local),
         ] {
-            table.row(vec![
-                name.to_owned(),
-                s.count().to_string(),
-                cell(s.percentile(0.5)),
-                cell(s.percentile(0.99)),
-                cell(s.percentile(0.999)),
-            ]);
+            table.row(s.row(name));
         }
         format!(
             "{} objects, {} encoding, {} ticks/s for {:?}\n{table}the bridge adds: p50 {} us, \
