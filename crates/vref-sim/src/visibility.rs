@@ -41,6 +41,7 @@ pub(crate) fn detect(
 ) -> Vec<Detection> {
     let mut detections = Vec::new();
     for (k, surface) in surfaces.iter().enumerate() {
+        let occluders = occluders(camera, objects, k);
         let mut facing = 0.0;
         let mut points = Vec::new();
         for wp in surface {
@@ -57,10 +58,9 @@ pub(crate) fn detect(
             if !camera.sees(&q) {
                 continue;
             }
-            let hidden = objects
+            let hidden = occluders
                 .iter()
-                .enumerate()
-                .any(|(j, other)| j != k && other.blocks(&camera.position, &wp.position));
+                .any(|other| other.blocks(&camera.position, &wp.position));
             if hidden {
                 continue;
             }
@@ -89,4 +89,22 @@ pub(crate) fn detect(
         }
     }
     detections
+}
+
+/// The objects other than `k` that could hide some part of it from the
+/// camera: only these need the exact test for each of its samples (with
+/// tens of objects, most pairs are far apart in the image).
+fn occluders<'a>(camera: &Camera, objects: &'a [WorldObject], k: usize) -> Vec<&'a WorldObject> {
+    let Some(target) = objects.get(k) else {
+        return Vec::new();
+    };
+    let radius = target.shape.bounding_radius();
+    objects
+        .iter()
+        .enumerate()
+        .filter(|&(j, other)| {
+            j != k && other.may_hide_ball(&camera.position, &target.centre, radius)
+        })
+        .map(|(_, other)| other)
+        .collect()
 }

@@ -55,6 +55,25 @@ impl WorldObject {
             .collect()
     }
 
+    /// Whether the solid could hide any point within `radius` of `centre`
+    /// from `eye`: every segment from `eye` to such a point stays within
+    /// `radius` of the segment to `centre`, so a solid whose bounding
+    /// sphere is farther than both radii from that segment hides none of
+    /// them ([`Self::blocks`] would say `false` for each). The margin
+    /// covers rounding, so that the pre-test never changes a result.
+    pub(crate) fn may_hide_ball(
+        &self,
+        eye: &Point3<f64>,
+        centre: &Point3<f64>,
+        radius: f64,
+    ) -> bool {
+        const MARGIN: f64 = 1e-6;
+        let dir = centre - eye;
+        let to_centre = self.centre - eye;
+        let t = (to_centre.dot(&dir) / dir.norm_squared()).clamp(0.0, 1.0);
+        (to_centre - dir * t).norm() <= self.shape.bounding_radius() + radius + MARGIN
+    }
+
     /// Whether the open segment from `a` to `b` passes through the solid.
     pub(crate) fn blocks(&self, a: &Point3<f64>, b: &Point3<f64>) -> bool {
         let dir = b - a;
