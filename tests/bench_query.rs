@@ -82,6 +82,10 @@ fn a_short_run_reports_cached_solved_and_bare_round_trips() {
         (all - expected).abs() <= 0.001 * expected.max(1.0),
         "{report}"
     );
+    // The idle phase's feeds publish where the matcher does not hear
+    // them: it solves nothing then, and everything once they are heard.
+    assert_eq!(report["idle_solve_time_count"], 0, "{report}");
+    assert!(report["solve_time_count"].as_u64().unwrap() > 0, "{report}");
     assert_eq!(report["timeouts"], 0, "{report}");
     assert_eq!(report["errors"], 0, "{report}");
     // Two matcher queries and one bare query per tick.

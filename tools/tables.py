@@ -162,7 +162,7 @@ def query_table(rows, arg):
              ("all", "matcher, every answer"), ("bare", "bare iceoryx2 echo server")]
     out = percentiles(r, kinds[2:] if arg == "short" else kinds)
     if "idle_all_p99_us" in r and arg != "short":
-        out.append(f"| idle matcher (feeds stopped), every answer | | {ms(r['idle_all_p50_us'])} | "
+        out.append(f"| idle matcher (feeds unheard), every answer | | {ms(r['idle_all_p50_us'])} | "
                    f"{ms(r['idle_all_p99_us'])} | - |")
         out.append(f"| idle phase, bare iceoryx2 echo server | | - | {ms(r['idle_bare_p99_us'])} | - |")
     if "solve_time_p50_us" in r and arg != "short":

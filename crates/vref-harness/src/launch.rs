@@ -129,7 +129,16 @@ fn isolated(config: &Config, dir: &Path, tag: &str) -> Result<Config, LaunchErro
 
 /// Writes `config` into `dir` for the children to read.
 fn write_config(config: &Config, dir: &Path) -> Result<PathBuf, LaunchError> {
-    let path = dir.join("vref.toml");
+    write_config_as(config, dir, "vref.toml")
+}
+
+/// Writes `config` into `dir` as `file_name` for the children to read.
+pub fn write_config_as(
+    config: &Config,
+    dir: &Path,
+    file_name: &str,
+) -> Result<PathBuf, LaunchError> {
+    let path = dir.join(file_name);
     let text = toml::to_string(config)?;
     std::fs::write(&path, text).map_err(io(format!("writing {}", path.display())))?;
     Ok(path)

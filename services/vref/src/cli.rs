@@ -627,8 +627,9 @@ pub struct BenchQueryArgs {
     /// bare p99), ratio_p99 (cached p99 / bare p99), counts.
     #[arg(long)]
     pub json: bool,
-    /// First measure as long with both feeds stopped (no snapshot, no
-    /// solve: an idle matcher), then with them started again, and
+    /// First measure as long with an idle matcher (both feeds running but
+    /// publishing under a namespace the matcher does not hear: the same
+    /// feed load, no snapshot, no solve), then with the feeds heard, and
     /// report both: idle_all_p50_us, idle_all_p99_us, ratio_busy_idle_p99,
     /// and the matcher's solve times from its decisions.
     #[arg(long)]
