@@ -50,3 +50,17 @@ def test_durations() -> None:
     ]:
         with pytest.raises(ValueError, match=says):
             parse_duration(bad)
+
+
+def test_bench_names_what_is_wrong_with_a_duration() -> None:
+    import subprocess
+    import sys
+
+    run = subprocess.run(
+        [sys.executable, "-m", "vref_client.bench", "--duration", "10"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert run.returncode == 2
+    assert "`10` has no unit: write e.g. 10s" in run.stderr

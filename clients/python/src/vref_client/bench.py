@@ -40,6 +40,15 @@ READY_S = 30.0
 QUERY_TIMEOUT_S = 2.0
 
 
+def duration_argument(text: str) -> float:
+    """``parse_duration`` for argparse, which would otherwise print only
+    "invalid value" and drop the reason (a bare ``10`` has no unit)."""
+    try:
+        return parse_duration(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from e
+
+
 def rounded(value: float | None, digits: int = 1) -> float | None:
     return None if value is None else round(value, digits)
 
@@ -293,7 +302,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         description=__doc__.split("\n\n")[1] if __doc__ else None,
     )
     parser.add_argument(
-        "--duration", type=parse_duration, default=10.0, help="how long to measure, e.g. 10s"
+        "--duration", type=duration_argument, default=10.0, help="how long to measure, e.g. 10s"
     )
     parser.add_argument(
         "--rate", type=float, default=200.0, help="queries per second of each client"
