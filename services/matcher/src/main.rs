@@ -1,19 +1,9 @@
-//! `vref-matcher`: the matcher service. One thread waits on both feeds,
-//! the gesture feed and reference requests with one WaitSet: it takes
-//! snapshots and rays, answers every query from the latest finished
-//! solution, publishes statistics and cleans up dead nodes. A second
-//! thread solves the newest pair of snapshots whenever one arrives and
-//! publishes each decision (docs/reliability.md).
+//! `vref-matcher`: the matcher service; its loop is `vref_serve::run`
+//! (crates/vref-serve), as the feeds' loops are in crates/vref-feed.
 //!
 //! Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running,
 //! 2 bad configuration (including one that cannot solve within its
 //! freshness budget).
-
-mod priority;
-mod reject_log;
-mod service;
-mod solving;
-mod stats;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -44,11 +34,12 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    match service::run(&config) {
+    match vref_serve::run(&config) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            tracing::error!("{e:#}");
-            ExitCode::from(1)
+            let code = if e.is_configuration() { 2 } else { 1 };
+            tracing::error!("{:#}", anyhow::Error::from(e));
+            ExitCode::from(code)
         }
     }
 }

@@ -1,7 +1,6 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, anyhow};
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
@@ -15,6 +14,7 @@ use vref_wire::ipc::{
 };
 use vref_wire::{ObjectEntry, PointingRay, SnapshotHeader};
 
+use crate::ServeError;
 use crate::reject_log::RejectLog;
 use crate::solving::{Handoff, Publishing, SolverThread};
 use crate::stats::{self, Counters};
@@ -38,10 +38,9 @@ struct Intake {
 }
 
 /// Runs until SIGINT or SIGTERM.
-pub fn run(config: &Config) -> anyhow::Result<()> {
-    let state = ReferenceState::new(&config.matcher, config.scene.limits())
-        .context("matcher configuration")?;
-    let solver = Solver::new(&config.matcher, config.matching).context("matcher configuration")?;
+pub fn run(config: &Config) -> Result<(), ServeError> {
+    let state = ReferenceState::new(&config.matcher, config.scene.limits())?;
+    let solver = Solver::new(&config.matcher, config.matching)?;
     let ipc = &config.ipc;
     let node = create_node(ipc, "vref-matcher")?;
     // A predecessor killed without cleanup may still hold ports.
@@ -91,8 +90,8 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
     let stale_after = Duration::from_millis(config.matcher.stale_after_ms);
     let waitset = WaitSetBuilder::new()
         .create::<ipc::Service>()
-        .map_err(|e| anyhow!("creating the WaitSet: {e:?}"))?;
-    let attach = |e: &dyn std::fmt::Debug| anyhow!("attaching to the WaitSet: {e:?}");
+        .map_err(|e| waitset_error("creating the WaitSet", &e))?;
+    let attach = |e: &dyn std::fmt::Debug| waitset_error("attaching to the WaitSet", e);
     let robot_guard = waitset
         .attach_deadline(&robot_listener, stale_after)
         .map_err(|e| attach(&e))?;
@@ -215,7 +214,7 @@ pub fn run(config: &Config) -> anyhow::Result<()> {
     let result = loop {
         match waitset.wait_and_process(&mut on_event) {
             Ok(WaitSetRunResult::Interrupt) => continue,
-            other => break other.map_err(|e| anyhow!("waiting: {e:?}")),
+            other => break other.map_err(|e| waitset_error("waiting", &e)),
         }
     };
     solver_thread.stop();
@@ -398,6 +397,16 @@ fn drain(listener: &Listener<ipc::Service>) {
     }
 }
 
-fn port_error(what: &str, error: &dyn std::fmt::Debug) -> anyhow::Error {
-    anyhow!("creating {what}: {error:?}")
+fn port_error(what: &'static str, error: &dyn std::fmt::Debug) -> ServeError {
+    ServeError::Port {
+        what,
+        detail: format!("{error:?}"),
+    }
+}
+
+fn waitset_error(what: &'static str, error: &dyn std::fmt::Debug) -> ServeError {
+    ServeError::WaitSet {
+        what,
+        detail: format!("{error:?}"),
+    }
 }

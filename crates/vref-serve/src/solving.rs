@@ -8,7 +8,6 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use anyhow::Context;
 use vref_reference::{
     Latest, Mailbox, Pair, Solved, Solver, decision_entry, decision_header, decision_len,
 };
@@ -50,12 +49,12 @@ impl SolverThread {
         solver: Solver,
         handoff: Arc<Handoff>,
         publishing: Publishing,
-    ) -> anyhow::Result<Self> {
+    ) -> Result<Self, crate::ServeError> {
         let shared = handoff.clone();
         let thread = std::thread::Builder::new()
             .name("solver".to_owned())
             .spawn(move || solve_until_closed(solver, &shared, &publishing))
-            .context("starting the solver thread")?;
+            .map_err(crate::ServeError::Thread)?;
         Ok(Self {
             handoff,
             thread: Some(thread),
