@@ -55,7 +55,10 @@ python3 - "$mode" > "$out/run.json" <<'PY'
 import json, os, subprocess, sys, time
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
 commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], capture_output=True, text=True).stdout.strip()
+# Changes to the code, not to what this run writes (docs/, README.md; this
+# very file is already truncated by the redirection).
+dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".", ":(exclude)docs", ":(exclude)README.md"],
+                       capture_output=True, text=True).stdout.strip()
 print(json.dumps({"mode": sys.argv[1], "date": time.strftime("%Y-%m-%d"), "commit": commit + ("+changes" if dirty else ""),
                   "cpu": cpu, "cores": os.cpu_count(), "load_at_start": round(os.getloadavg()[0], 2)}))
 PY
