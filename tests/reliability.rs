@@ -519,3 +519,35 @@ fn snapshots_statistics_and_answers_keep_flowing_during_a_long_solve() {
     );
     assert!(!h.log("matcher").contains("panicked"));
 }
+
+/// Nodes under `ipc`'s root path that are dead (their process is gone).
+fn dead_nodes(ipc: &IpcSettings) -> usize {
+    use iceoryx2::prelude::*;
+    let node = create_node(ipc, "dead-node-counter").unwrap();
+    let mut dead = 0;
+    Node::<ipc::Service>::list(node.config(), |state| {
+        if matches!(state, NodeState::Dead(_)) {
+            dead += 1;
+        }
+        CallbackProgression::Continue
+    })
+    .unwrap();
+    dead
+}
+
+#[test]
+fn the_matcher_cleans_up_after_a_killed_feed_on_its_own() {
+    let (mut h, ipc, source) = table_harness_with("dead", "", "");
+    start_all(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    wait_ok(&mut client);
+    // The test only looks: nobody but the matcher cleans up here.
+    h.kill("gesture");
+    eventually(
+        Duration::from_secs(10),
+        "the matcher cleaning up the dead feed's node",
+        || (h.log("matcher").contains("dead nodes") && dead_nodes(&ipc) == 0).then_some(()),
+    );
+    // The query path went on meanwhile.
+    assert!(ask(&mut client, 1).is_some());
+}

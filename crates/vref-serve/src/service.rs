@@ -15,6 +15,7 @@ use vref_wire::ipc::{
 use vref_wire::{ObjectEntry, PointingRay, SnapshotHeader};
 
 use crate::ServeError;
+use crate::cleanup::CleanupThread;
 use crate::reject_log::RejectLog;
 use crate::solving::{Handoff, Publishing, SolverThread};
 use crate::stats::{self, Counters};
@@ -104,9 +105,6 @@ pub fn run(config: &Config) -> Result<(), ServeError> {
     let request_guard = waitset
         .attach_notification(&request_listener)
         .map_err(|e| attach(&e))?;
-    let cleanup_guard = waitset
-        .attach_interval(Duration::from_millis(config.matcher.cleanup_interval_ms))
-        .map_err(|e| attach(&e))?;
     let stats_guard = waitset
         .attach_interval(stats::PUBLISH_EVERY)
         .map_err(|e| attach(&e))?;
@@ -122,6 +120,11 @@ pub fn run(config: &Config) -> Result<(), ServeError> {
             method: config.matcher.method.clone(),
             ambiguity_threshold: config.matcher.ambiguity_threshold,
         },
+    )?;
+    let cleanup_thread = CleanupThread::spawn(
+        ipc.clone(),
+        Duration::from_millis(config.matcher.cleanup_interval_ms),
+        config.matcher.solver_nice,
     )?;
     let mut intake = Intake {
         state,
@@ -180,16 +183,6 @@ pub fn run(config: &Config) -> Result<(), ServeError> {
         }
         // Freed after the answers went out.
         drop(retired);
-        if id.has_event_from(&cleanup_guard) {
-            let cleanup = node.try_cleanup_dead_nodes();
-            if cleanup.cleanups > 0 || cleanup.failed_cleanups > 0 {
-                tracing::info!(
-                    cleaned = cleanup.cleanups,
-                    failed = cleanup.failed_cleanups,
-                    "dead nodes"
-                );
-            }
-        }
         if id.has_event_from(&stats_guard)
             && let Err(e) = stats_publisher.publish(&intake.counters.message(&intake.state))
         {
@@ -218,6 +211,7 @@ pub fn run(config: &Config) -> Result<(), ServeError> {
         }
     };
     solver_thread.stop();
+    cleanup_thread.stop();
     let result = result?;
     tracing::info!(
         ?result,
