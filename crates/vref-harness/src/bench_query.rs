@@ -58,7 +58,7 @@ pub struct QueryBenchOptions {
     pub rate: f64,
     /// How long to measure once the services answer.
     pub duration: Duration,
-    /// First measure as long with both feeds stopped.
+    /// First measure as long with an idle matcher (the feeds unheard).
     pub compare_idle: bool,
     /// The `vref` binary, which serves the echo (`vref bench echo-server`)
     /// and the viewer (`vref view`).
