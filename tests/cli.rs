@@ -42,6 +42,25 @@ fn every_command_has_help() {
 }
 
 #[test]
+fn every_service_states_its_exit_codes_in_its_help() {
+    for service in [
+        "vref-matcher",
+        "vref-perception-feed",
+        "vref-gesture-feed",
+        "vref-bridge",
+    ] {
+        let run = support::vref_at(&support::processes::binary(service), &["--help"], LIMIT).ok();
+        for code in ["Exit codes: 0", "1 failure while running", "2 bad"] {
+            assert!(
+                run.stdout.contains(code),
+                "{service} --help lacks `{code}`:\n{}",
+                run.stdout
+            );
+        }
+    }
+}
+
+#[test]
 fn eval_json_has_one_object_per_method_with_the_contract_fields() {
     let dir = tempfile::tempdir().unwrap();
     let data = write(dir.path(), "tri.jsonl", &format!("{SCENE}\n"));

@@ -22,7 +22,11 @@ use clap::Parser;
 /// this robot's matcher over Zenoh, under the `[bridge] prefix` keys
 /// (docs/remote.md). Logs go to stderr (RUST_LOG, default info).
 #[derive(Debug, Parser)]
-#[command(name = "vref-bridge", version)]
+#[command(
+    name = "vref-bridge",
+    version,
+    after_help = "Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running, 2 bad configuration."
+)]
 struct Args {
     /// Configuration file (default: $VREF_CONFIG, else config/vref.toml
     /// if present, else built-in defaults); its [bridge] and [ipc]

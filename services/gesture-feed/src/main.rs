@@ -13,7 +13,11 @@ use vref_feed::{FeedArgs, Role, run_feed};
 /// iceoryx2 snapshots, and where the person points. Logs go to stderr
 /// (RUST_LOG, default info).
 #[derive(Debug, Parser)]
-#[command(name = "vref-gesture-feed", version)]
+#[command(
+    name = "vref-gesture-feed",
+    version,
+    after_help = "Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running, 2 bad command line, configuration or source."
+)]
 struct Args {
     #[command(flatten)]
     feed: FeedArgs,

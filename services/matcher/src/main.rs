@@ -13,7 +13,11 @@ use clap::Parser;
 /// The vref matcher: answers "which robot object does the person mean?"
 /// over iceoryx2. Logs go to stderr (RUST_LOG, default info).
 #[derive(Debug, Parser)]
-#[command(name = "vref-matcher", version)]
+#[command(
+    name = "vref-matcher",
+    version,
+    after_help = "Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running, 2 bad configuration (including one that cannot solve within its freshness budget)."
+)]
 struct Args {
     /// Configuration file (default: $VREF_CONFIG, else config/vref.toml
     /// if present, else built-in defaults).

@@ -12,7 +12,11 @@ use vref_feed::{FeedArgs, Role, run_feed};
 /// The vref perception feed: publishes what the robot's camera sees as
 /// iceoryx2 snapshots. Logs go to stderr (RUST_LOG, default info).
 #[derive(Debug, Parser)]
-#[command(name = "vref-perception-feed", version)]
+#[command(
+    name = "vref-perception-feed",
+    version,
+    after_help = "Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running, 2 bad command line, configuration or source."
+)]
 struct Args {
     #[command(flatten)]
     feed: FeedArgs,
