@@ -7,8 +7,9 @@
 //! - [`ready`]: the one readiness wait, bounded by a timeout.
 //! - [`echo`]: the echo server of `vref bench query` (the bare iceoryx2
 //!   round trip).
-//! - [`demo`], [`soak`], [`bench_query`]: the runners of `vref demo`,
-//!   `vref soak` and `vref bench query`, each returning a report that
+//! - [`demo`], [`soak`], [`bench_query`], [`bench_remote`],
+//!   [`bench_client`]: the runners of `vref demo`, `vref soak` and `vref
+//!   bench query`, `remote` and `client`, each returning a report that
 //!   renders itself as the command's JSON line or table.
 //! - [`table`]: the plain-text tables the reports render.
 //! - [`samples`]: round trips of one kind, with vref_measure's one
@@ -18,7 +19,9 @@
 //! ([`launch::LaunchError`], [`ready::ReadyError`], [`echo::EchoError`],
 //! [`RunError`] for the runners).
 
+pub mod bench_client;
 pub mod bench_query;
+pub mod bench_remote;
 pub mod demo;
 pub mod echo;
 pub mod launch;
@@ -50,6 +53,12 @@ pub enum RunError {
     /// The matcher published no statistics in time.
     #[error("the matcher published no statistics within {0:?}")]
     NoStats(std::time::Duration),
+    /// No matcher answered as the run needs (`vref bench client`).
+    #[error("{0}")]
+    NotServing(String),
+    /// The Zenoh side of `vref bench remote`: no port, no session.
+    #[error("{0}")]
+    Remote(String),
     /// The caller's output callback failed (e.g. stdout closed).
     #[error("{0}")]
     Output(String),

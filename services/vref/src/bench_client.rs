@@ -1,140 +1,25 @@
-//! `vref bench client`: a Rust [`ReferenceClient`] querying a matcher that
-//! is already running, one latest-gesture query at a time, with round-trip
-//! percentiles of answers from a solution an earlier answer came from
-//! ("cached") and of the first answer from each new solution (as `vref
-//! bench query` counts them; the matcher never solves on the query path). `python -m vref_client.bench` runs it beside the Python client
-//! against the same matcher, so both are measured under the same load.
+//! `vref bench client`: the arguments to vref_harness::bench_client, the
+//! report printed.
 
-use std::time::{Duration, Instant};
-
-use anyhow::{Context, anyhow};
 use vref_config::Config;
-use vref_harness::ready::{self, Readiness};
-use vref_wire::AnswerStatus;
-use vref_wire::ipc::{IpcError, ReferenceClient};
+use vref_harness::bench_client::{self, ClientBenchOptions};
 
-use crate::bench_query::{Samples, us};
 use crate::cli::BenchClientArgs;
 use crate::failure::{Blame, Failure};
 use crate::stdout;
-use crate::table::Table;
-
-/// One query's time limit.
-const QUERY_TIMEOUT: Duration = Duration::from_secs(2);
-
-/// What one run measured.
-#[derive(Debug, Default)]
-struct Report {
-    cached: Samples,
-    solve: Samples,
-    /// Answers that did not come from a solution (not ready, stale, no
-    /// object in the ray's cone, ...).
-    other: u64,
-    timeouts: u64,
-    errors: u64,
-    /// The (robot, human) sequences of the last answer's solution.
-    last_solution: Option<(u64, u64)>,
-}
 
 pub fn run(args: &BenchClientArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
-    let name = format!("vref-bench-client-{}", std::process::id());
-    let mut client = ReferenceClient::connect(&config.ipc, &name)
-        .context("connecting to the matcher")
-        .runtime()?;
-    wait_ready(&mut client, args.ready_within).runtime()?;
-    let report = measure(&mut client, args);
+    let options = ClientBenchOptions {
+        rate: args.rate,
+        duration: args.duration,
+        ready_within: args.ready_within,
+    };
+    let report = bench_client::run(&options, &config.ipc).runtime()?;
     let text = if args.json {
-        format!("{}\n", json(&report, args))
+        format!("{}\n", report.json(&options))
     } else {
-        table(&report, args)
+        report.table(&options)
     };
     stdout::print(&text)
-}
-
-fn wait_ready(client: &mut ReferenceClient, within: Duration) -> anyhow::Result<()> {
-    ready::wait_ready(within, Duration::from_millis(100), || {
-        let ready = client
-            .latest_gesture(QUERY_TIMEOUT)
-            .is_ok_and(|a| matches!(a.status(), AnswerStatus::Ok | AnswerStatus::Ambiguous));
-        Ok(if ready {
-            Readiness::Ready(())
-        } else {
-            Readiness::Waiting("ok or ambiguous latest-gesture answer".to_owned())
-        })
-    })
-    .map_err(|e| anyhow!("{e}: is the matcher running with both feeds?"))
-}
-
-fn measure(client: &mut ReferenceClient, args: &BenchClientArgs) -> Report {
-    let mut report = Report::default();
-    let period = Duration::from_secs_f64(1.0 / args.rate);
-    let end = Instant::now() + args.duration;
-    while Instant::now() < end {
-        let started = Instant::now();
-        let result = client.latest_gesture(QUERY_TIMEOUT);
-        let took = started.elapsed();
-        match result {
-            // Only these went through the solution; the snapshots it names
-            // tell a solution new since the last answer.
-            Ok(a) if matches!(a.status(), AnswerStatus::Ok | AnswerStatus::Ambiguous) => {
-                let solution = (a.robot_sequence, a.human_sequence);
-                let new = report.last_solution.is_some_and(|last| last != solution);
-                report.last_solution = Some(solution);
-                if new {
-                    report.solve.push(took);
-                } else {
-                    report.cached.push(took);
-                }
-            }
-            Ok(_) => report.other += 1,
-            Err(IpcError::Timeout { .. }) => report.timeouts += 1,
-            Err(e) => {
-                tracing::warn!("query failed: {e}");
-                report.errors += 1;
-            }
-        }
-        if let Some(rest) = period.checked_sub(started.elapsed()) {
-            std::thread::sleep(rest);
-        }
-    }
-    report
-}
-
-fn json(r: &Report, args: &BenchClientArgs) -> serde_json::Value {
-    serde_json::json!({
-        "client": "rust",
-        "query": "latest_gesture",
-        "cached_p50_us": us(r.cached.percentile(0.5)),
-        "cached_p99_us": us(r.cached.percentile(0.99)),
-        "solve_p50_us": us(r.solve.percentile(0.5)),
-        "solve_p99_us": us(r.solve.percentile(0.99)),
-        "cached_count": r.cached.count(),
-        "solve_count": r.solve.count(),
-        "other_count": r.other,
-        "timeouts": r.timeouts,
-        "errors": r.errors,
-        "rate_hz": args.rate,
-        "duration_s": args.duration.as_secs_f64(),
-    })
-}
-
-fn table(r: &Report, args: &BenchClientArgs) -> String {
-    let mut table = Table::new(&["round trip", "count", "p50 us", "p99 us"]);
-    let cell = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.1}"));
-    for (name, s) in [
-        ("cached answer", &r.cached),
-        ("answer after a solve", &r.solve),
-    ] {
-        table.row(vec![
-            name.to_owned(),
-            s.count().to_string(),
-            cell(s.percentile(0.5)),
-            cell(s.percentile(0.99)),
-        ]);
-    }
-    format!(
-        "latest-gesture queries at {} /s for {:?}\n{table}other answers {}, timeouts {}, errors {}\n",
-        args.rate, args.duration, r.other, r.timeouts, r.errors
-    )
 }

@@ -6,8 +6,6 @@ use vref_config::Config;
 use vref_harness::bench_query::{self, QueryBenchOptions};
 use vref_harness::echo;
 
-pub(crate) use vref_harness::bench_query::human_ids;
-pub(crate) use vref_harness::samples::{Samples, us};
 
 use crate::cli::{BenchQueryArgs, EchoServerArgs};
 use crate::failure::{Blame, Failure};

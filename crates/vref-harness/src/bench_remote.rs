@@ -1,0 +1,300 @@
+//! `vref bench remote`: what the network edge costs. One run starts the
+//! matcher, both feeds and vref-bridge (on a loopback port of its own) and
+//! asks the same questions two ways: over Zenoh through the bridge, as a
+//! controller on another computer would, and over iceoryx2 to the matcher
+//! directly. The difference of the two is what the bridge and Zenoh add.
+//!
+//! [`run`] returns the [`Report`], which renders itself as the command's
+//! JSON line or table.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use vref_bridge::{Format, NetError, RemoteClient};
+use vref_config::{BridgeSettings, Config, ZenohMode};
+use vref_feed::synthetic_world;
+use vref_sim::LiveWorld;
+use vref_wire::ipc::{IpcError, ReferenceClient};
+use vref_wire::{AnswerStatus, QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
+
+use crate::bench_query::human_ids;
+use crate::launch::{self, Isolation, LaunchError, Services, keep_logs_if, prepare};
+use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
+use crate::samples::{ROW_HEADER, Samples, us};
+use crate::table::Table;
+use crate::{Finished, RunError};
+
+/// One query's time limit.
+const QUERY_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// What `vref bench remote` was asked for.
+#[derive(Debug, Clone)]
+pub struct RemoteBenchOptions {
+    pub objects: usize,
+    /// Ticks per second; each tick sends one remote and one local query.
+    pub rate: f64,
+    pub duration: Duration,
+    /// How remote queries and answers travel.
+    pub encoding: Format,
+}
+
+/// Runs the benchmark: the matcher, both feeds and the bridge from
+/// `bin_dir` under `config` isolated, the bridge listening on a free
+/// loopback port.
+pub fn run(
+    options: &RemoteBenchOptions,
+    config: &Config,
+    bin_dir: &Path,
+) -> Result<Finished<Report>, RunError> {
+    if options.objects < 2 {
+        return Err(RunError::BadInput("--objects: at least 2".to_owned()));
+    }
+    let (_, world) = synthetic_world(&config.feeds, Some(options.objects))
+        .map_err(|e| RunError::BadInput(e.to_string()))?;
+    let bridge_binary = launch::binary(bin_dir, "vref-bridge")?;
+    let endpoint = format!("tcp/127.0.0.1:{}", free_port()?);
+    let prefix = format!("vref/bench{}", std::process::id());
+    let mut config = config.clone();
+    config.bridge = BridgeSettings {
+        mode: ZenohMode::Peer,
+        listen: vec![endpoint.clone()],
+        connect: Vec::new(),
+        multicast_scouting: false,
+        prefix: prefix.clone(),
+        headset_in: false,
+        queries_in: true,
+        state_out: false,
+        // The benchmark must not be cut by the bridge's own limit.
+        max_query_rate_hz: 100_000.0,
+        ..BridgeSettings::default()
+    };
+    let Isolation {
+        binaries,
+        dir,
+        config: own,
+        config_path,
+    } = prepare(&config, bin_dir, "bench-remote", "vbr")?;
+
+    let feed_args = ["--objects".to_owned(), options.objects.to_string()];
+    let mut system = Services::start_system(&binaries, &config_path, &feed_args, dir.path())?;
+    let mut command = std::process::Command::new(&bridge_binary);
+    command.arg("--config").arg(&config_path);
+    system.spawn("vref-bridge", command)?;
+    let outcome = measure(options, &own, &world, &endpoint, &prefix, &mut || {
+        system.ensure_running()
+    });
+    let stopped = system.stop();
+    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
+    Ok(Finished {
+        report: outcome?,
+        stopped,
+    })
+}
+
+/// A loopback port free a moment ago, for the bridge to listen on.
+fn free_port() -> Result<u16, RunError> {
+    let io = |e: std::io::Error| RunError::Remote(format!("finding a free loopback port: {e}"));
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").map_err(io)?;
+    Ok(listener.local_addr().map_err(io)?.port())
+}
+
+/// What one run measured.
+#[derive(Debug, Default)]
+pub struct Report {
+    remote: Samples,
+    local: Samples,
+    /// Answers that did not go through the solution (not ready, stale, ...).
+    other: u64,
+    timeouts: u64,
+    errors: u64,
+}
+
+fn human_object(id: u64) -> ReferenceQuery {
+    ReferenceQuery {
+        request_id: 0,
+        human_object_id: id,
+        ray_origin: [0.0; 3],
+        ray_direction: [0.0; 3],
+        cone_half_angle: 0.0,
+        kind: QueryKind::HumanObject as u32,
+        schema_version: SCHEMA_VERSION,
+        reserved: 0,
+    }
+}
+
+fn answered(a: &ReferenceAnswer) -> bool {
+    matches!(
+        a.status(),
+        AnswerStatus::Ok | AnswerStatus::Ambiguous | AnswerStatus::NoMatch
+    )
+}
+
+fn measure(
+    options: &RemoteBenchOptions,
+    config: &Config,
+    world: &LiveWorld,
+    endpoint: &str,
+    prefix: &str,
+    running: &mut dyn FnMut() -> Result<(), LaunchError>,
+) -> Result<Report, RunError> {
+    let pid = std::process::id();
+    let mut local = ReferenceClient::connect(&config.ipc, &format!("vref-bench-local-{pid}"))?;
+    let mut remote = connect_remote(endpoint, prefix, options.encoding, running)?;
+    wait_ready_both(&mut local, &mut remote, world, running)?;
+
+    let mut report = Report::default();
+    let period = Duration::from_secs_f64(1.0 / options.rate);
+    let end = Instant::now() + options.duration;
+    let mut ids = human_ids(world);
+    let mut ids_at = Instant::now();
+    let mut tick = 0usize;
+    while Instant::now() < end {
+        let started = Instant::now();
+        if ids_at.elapsed() >= Duration::from_millis(100) {
+            ids = human_ids(world);
+            ids_at = Instant::now();
+        }
+        let id = ids.get(tick % ids.len().max(1)).copied().unwrap_or(0);
+        // Alternate which goes first, so that noise falls on both alike.
+        let remote_first = tick.is_multiple_of(2);
+        for remote_turn in [remote_first, !remote_first] {
+            let asked = Instant::now();
+            if remote_turn {
+                match remote.ask(human_object(id), QUERY_TIMEOUT) {
+                    Ok(a) if answered(&a) => report.remote.push(asked.elapsed()),
+                    Ok(_) => report.other += 1,
+                    Err(NetError::NoReply { .. }) => report.timeouts += 1,
+                    Err(e) => {
+                        report.errors += 1;
+                        tracing::warn!("remote query: {e}");
+                    }
+                }
+            } else {
+                match local.ask(human_object(id), QUERY_TIMEOUT) {
+                    Ok(a) if answered(&a) => report.local.push(asked.elapsed()),
+                    Ok(_) => report.other += 1,
+                    Err(IpcError::Timeout { .. }) => report.timeouts += 1,
+                    Err(e) => {
+                        report.errors += 1;
+                        tracing::warn!("local query: {e}");
+                    }
+                }
+            }
+        }
+        tick += 1;
+        if let Some(rest) = period.checked_sub(started.elapsed()) {
+            std::thread::sleep(rest);
+        }
+    }
+    Ok(report)
+}
+
+/// The bridge may not listen yet: a client session fails at once when
+/// nothing answers at the endpoint, so it is retried.
+fn connect_remote(
+    endpoint: &str,
+    prefix: &str,
+    format: Format,
+    running: &mut dyn FnMut() -> Result<(), LaunchError>,
+) -> Result<RemoteClient, RunError> {
+    let mut last = String::new();
+    wait_ready(READY_WITHIN, Duration::from_millis(200), || {
+        running()?;
+        Ok(match RemoteClient::connect(endpoint, prefix, format) {
+            Ok(client) => Readiness::Ready(client),
+            Err(e) => {
+                last = e.to_string();
+                Readiness::Waiting(format!("session with the bridge at {endpoint}"))
+            }
+        })
+    })
+    .map_err(|e| {
+        RunError::Remote(format!(
+            "connecting to the bridge at {endpoint}: {e} ({last})"
+        ))
+    })
+}
+
+fn wait_ready_both(
+    local: &mut ReferenceClient,
+    remote: &mut RemoteClient,
+    world: &LiveWorld,
+    running: &mut dyn FnMut() -> Result<(), LaunchError>,
+) -> Result<(), ReadyError> {
+    let (mut local_ready, mut remote_ready) = (false, false);
+    wait_ready(READY_WITHIN, Duration::from_millis(100), || {
+        running()?;
+        if let Some(&id) = human_ids(world).first() {
+            local_ready = local_ready
+                || local
+                    .ask(human_object(id), QUERY_TIMEOUT)
+                    .is_ok_and(|a| answered(&a));
+            remote_ready = remote_ready
+                || remote
+                    .ask(human_object(id), QUERY_TIMEOUT)
+                    .is_ok_and(|a| answered(&a));
+        }
+        Ok(match (local_ready, remote_ready) {
+            (true, true) => Readiness::Ready(()),
+            (false, false) => Readiness::Waiting("answer from the matcher".to_owned()),
+            (true, false) => Readiness::Waiting("answer through the bridge".to_owned()),
+            (false, true) => Readiness::Waiting("answer over iceoryx2".to_owned()),
+        })
+    })
+}
+
+impl Report {
+    fn added(&self, q: f64) -> Option<f64> {
+        match (self.remote.percentile(q), self.local.percentile(q)) {
+            (Some(r), Some(l)) => Some(r - l),
+            _ => None,
+        }
+    }
+
+    pub fn json(&self, options: &RemoteBenchOptions) -> serde_json::Value {
+        let p = |s: &Samples, q| us(s.percentile(q));
+        serde_json::json!({
+            "remote_p50_us": p(&self.remote, 0.5),
+            "remote_p99_us": p(&self.remote, 0.99),
+            "local_p50_us": p(&self.local, 0.5),
+            "local_p99_us": p(&self.local, 0.99),
+            "added_p50_us": us(self.added(0.5)),
+            "added_p99_us": us(self.added(0.99)),
+            "remote_p999_us": p(&self.remote, 0.999),
+            "local_p999_us": p(&self.local, 0.999),
+            "remote_count": self.remote.count(),
+            "local_count": self.local.count(),
+            "other_count": self.other,
+            "timeouts": self.timeouts,
+            "errors": self.errors,
+            "encoding": options.encoding.name(),
+            "objects": options.objects,
+            "rate_hz": options.rate,
+            "duration_s": options.duration.as_secs_f64(),
+        })
+    }
+
+    pub fn table(&self, options: &RemoteBenchOptions) -> String {
+        let mut table = Table::new(&ROW_HEADER);
+        let cell = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.1}"));
+        for (name, s) in [
+            ("remote (Zenoh, bridge)", &self.remote),
+            ("local (iceoryx2)", &self.local),
+        ] {
+            table.row(s.row(name));
+        }
+        format!(
+            "{} objects, {} encoding, {} ticks/s for {:?}\n{table}the bridge adds: p50 {} us, \
+             p99 {} us\nother answers {}, timeouts {}, errors {}\n",
+            options.objects,
+            options.encoding.name(),
+            options.rate,
+            options.duration,
+            cell(self.added(0.5)),
+            cell(self.added(0.99)),
+            self.other,
+            self.timeouts,
+            self.errors,
+        )
+    }
+}
