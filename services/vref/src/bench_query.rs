@@ -6,7 +6,6 @@ use vref_config::Config;
 use vref_harness::bench_query::{self, QueryBenchOptions};
 use vref_harness::echo;
 
-
 use crate::cli::{BenchQueryArgs, EchoServerArgs};
 use crate::failure::{Blame, Failure};
 use crate::{harness, stdout};
