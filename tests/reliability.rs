@@ -20,7 +20,7 @@ use vref_wire::ipc::{
     DecisionReader, GesturePublisher, IpcError, IpcSettings, ReferenceClient, StatsReader,
     create_node, open_reference, open_request_event,
 };
-use vref_wire::{AnswerStatus, MatcherStats, QueryKind, ReferenceAnswer, ReferenceQuery};
+use vref_wire::{AnswerStatus, MatcherStats, ReferenceAnswer, ReferenceQuery};
 
 /// The counter of a reject reason in `MatcherStats::rejected`.
 fn rejected(stats: &MatcherStats, reason: &str) -> u64 {
@@ -365,13 +365,7 @@ fn flood(ipc: &IpcSettings, stop: &AtomicBool, sent: &AtomicU64) {
         .unwrap();
     let query = ReferenceQuery {
         request_id: 1,
-        human_object_id: 1,
-        ray_origin: [0.0; 3],
-        ray_direction: [0.0; 3],
-        cone_half_angle: 0.0,
-        kind: QueryKind::HumanObject as u32,
-        schema_version: vref_wire::SCHEMA_VERSION,
-        reserved: 0,
+        ..ReferenceQuery::human_object(1)
     };
     while !stop.load(Ordering::SeqCst) {
         if let Ok(request) = client.loan_uninit() {

@@ -14,8 +14,8 @@ use vref_inject::{VALID_FEATURE_DIM, valid_objects};
 use vref_scene::Side;
 use vref_wire::ipc::IpcSettings;
 use vref_wire::{
-    FRAME_NAME_LEN, ObjectEntry, PointingRay, QueryKind, ReferenceAnswer, ReferenceQuery,
-    SCHEMA_VERSION, SideCode, SnapshotHeader,
+    FRAME_NAME_LEN, ObjectEntry, PointingRay, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION,
+    SideCode, SnapshotHeader,
 };
 use zenoh::Wait;
 
@@ -126,33 +126,15 @@ fn shifted(dataset: &str, offset: u64) -> String {
 }
 
 pub fn human_object(id: u64) -> ReferenceQuery {
-    ReferenceQuery {
-        request_id: 0,
-        human_object_id: id,
-        ray_origin: [0.0; 3],
-        ray_direction: [0.0; 3],
-        cone_half_angle: 0.0,
-        kind: QueryKind::HumanObject as u32,
-        schema_version: SCHEMA_VERSION,
-        reserved: 0,
-    }
+    ReferenceQuery::human_object(id)
 }
 
 pub fn ray_query(origin: [f32; 3], direction: [f32; 3], cone: f32) -> ReferenceQuery {
-    ReferenceQuery {
-        ray_origin: origin,
-        ray_direction: direction,
-        cone_half_angle: cone,
-        kind: QueryKind::Ray as u32,
-        ..human_object(0)
-    }
+    ReferenceQuery::ray(origin, direction, cone)
 }
 
 pub fn latest_gesture() -> ReferenceQuery {
-    ReferenceQuery {
-        kind: QueryKind::LatestGesture as u32,
-        ..human_object(0)
-    }
+    ReferenceQuery::latest_gesture()
 }
 
 /// Asks until the answer satisfies `good`, at most `limit`.

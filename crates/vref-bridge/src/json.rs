@@ -316,36 +316,25 @@ pub fn encode_ray(ray: &PointingRay) -> Vec<u8> {
 
 pub fn decode_query(bytes: &[u8]) -> Result<ReferenceQuery, CodecError> {
     let query: QueryJson = parse("reference query", bytes)?;
-    let blank = |request_id, kind: QueryKind| ReferenceQuery {
-        request_id,
-        human_object_id: 0,
-        ray_origin: [0.0; 3],
-        ray_direction: [0.0; 3],
-        cone_half_angle: 0.0,
-        kind: kind as u32,
-        schema_version: SCHEMA_VERSION,
-        reserved: 0,
-    };
-    Ok(match query {
+    let (request_id, query) = match query {
         QueryJson::HumanObject {
             request_id,
             human_object_id,
-        } => ReferenceQuery {
-            human_object_id,
-            ..blank(request_id, QueryKind::HumanObject)
-        },
+        } => (request_id, ReferenceQuery::human_object(human_object_id)),
         QueryJson::Ray {
             request_id,
             ray_origin,
             ray_direction,
             cone_half_angle,
-        } => ReferenceQuery {
-            ray_origin,
-            ray_direction,
-            cone_half_angle,
-            ..blank(request_id, QueryKind::Ray)
-        },
-        QueryJson::LatestGesture { request_id } => blank(request_id, QueryKind::LatestGesture),
+        } => (
+            request_id,
+            ReferenceQuery::ray(ray_origin, ray_direction, cone_half_angle),
+        ),
+        QueryJson::LatestGesture { request_id } => (request_id, ReferenceQuery::latest_gesture()),
+    };
+    Ok(ReferenceQuery {
+        request_id,
+        ..query
     })
 }
 

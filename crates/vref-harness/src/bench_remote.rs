@@ -15,7 +15,7 @@ use vref_config::{BridgeSettings, Config, ZenohMode};
 use vref_feed::synthetic_world;
 use vref_sim::LiveWorld;
 use vref_wire::ipc::{IpcError, ReferenceClient};
-use vref_wire::{AnswerStatus, QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
+use vref_wire::{AnswerStatus, ReferenceAnswer, ReferenceQuery};
 
 use crate::bench_query::human_ids;
 use crate::launch::{self, Isolation, LaunchError, Services, keep_logs_if, prepare};
@@ -109,19 +109,6 @@ pub struct Report {
     errors: u64,
 }
 
-fn human_object(id: u64) -> ReferenceQuery {
-    ReferenceQuery {
-        request_id: 0,
-        human_object_id: id,
-        ray_origin: [0.0; 3],
-        ray_direction: [0.0; 3],
-        cone_half_angle: 0.0,
-        kind: QueryKind::HumanObject as u32,
-        schema_version: SCHEMA_VERSION,
-        reserved: 0,
-    }
-}
-
 fn answered(a: &ReferenceAnswer) -> bool {
     matches!(
         a.status(),
@@ -160,7 +147,7 @@ fn measure(
         for remote_turn in [remote_first, !remote_first] {
             let asked = Instant::now();
             if remote_turn {
-                match remote.ask(human_object(id), QUERY_TIMEOUT) {
+                match remote.ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT) {
                     Ok(a) if answered(&a) => report.remote.push(asked.elapsed()),
                     Ok(_) => report.other += 1,
                     Err(NetError::NoReply { .. }) => report.timeouts += 1,
@@ -170,7 +157,7 @@ fn measure(
                     }
                 }
             } else {
-                match local.ask(human_object(id), QUERY_TIMEOUT) {
+                match local.ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT) {
                     Ok(a) if answered(&a) => report.local.push(asked.elapsed()),
                     Ok(_) => report.other += 1,
                     Err(IpcError::Timeout { .. }) => report.timeouts += 1,
@@ -227,11 +214,11 @@ fn wait_ready_both(
         if let Some(&id) = human_ids(world).first() {
             local_ready = local_ready
                 || local
-                    .ask(human_object(id), QUERY_TIMEOUT)
+                    .ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT)
                     .is_ok_and(|a| answered(&a));
             remote_ready = remote_ready
                 || remote
-                    .ask(human_object(id), QUERY_TIMEOUT)
+                    .ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT)
                     .is_ok_and(|a| answered(&a));
         }
         Ok(match (local_ready, remote_ready) {

@@ -107,6 +107,42 @@ pub struct ReferenceQuery {
     pub reserved: u32,
 }
 
+impl ReferenceQuery {
+    /// "Which robot object is human object `id`?" (request id 0: the
+    /// client numbers its requests).
+    pub fn human_object(id: u64) -> Self {
+        Self {
+            request_id: 0,
+            human_object_id: id,
+            ray_origin: [0.0; 3],
+            ray_direction: [0.0; 3],
+            cone_half_angle: 0.0,
+            kind: QueryKind::HumanObject as u32,
+            schema_version: SCHEMA_VERSION,
+            reserved: 0,
+        }
+    }
+
+    /// "Which robot object does this ray (human view frame) point at?"
+    pub fn ray(origin: [f32; 3], direction: [f32; 3], cone_half_angle: f32) -> Self {
+        Self {
+            ray_origin: origin,
+            ray_direction: direction,
+            cone_half_angle,
+            kind: QueryKind::Ray as u32,
+            ..Self::human_object(0)
+        }
+    }
+
+    /// "Which robot object does the latest gesture point at?"
+    pub fn latest_gesture() -> Self {
+        Self {
+            kind: QueryKind::LatestGesture as u32,
+            ..Self::human_object(0)
+        }
+    }
+}
+
 /// How a query was answered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
@@ -419,6 +455,31 @@ mod tests {
     use std::mem::{align_of, size_of};
 
     use super::*;
+
+    #[test]
+    fn query_constructors_ask_what_they_say_in_the_current_schema() {
+        let human = ReferenceQuery::human_object(7);
+        assert_eq!(
+            (human.kind, human.human_object_id),
+            (QueryKind::HumanObject as u32, 7)
+        );
+        let ray = ReferenceQuery::ray([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], 0.1);
+        assert_eq!(ray.kind, QueryKind::Ray as u32);
+        assert_eq!(
+            (ray.ray_origin, ray.ray_direction, ray.cone_half_angle),
+            ([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], 0.1)
+        );
+        assert_eq!(
+            ReferenceQuery::latest_gesture().kind,
+            QueryKind::LatestGesture as u32
+        );
+        for q in [human, ray, ReferenceQuery::latest_gesture()] {
+            assert_eq!(
+                (q.request_id, q.schema_version, q.reserved),
+                (0, SCHEMA_VERSION, 0)
+            );
+        }
+    }
 
     /// Every wire type is laid out without implicit padding: its size is
     /// the sum of its fields' sizes, so another language's mirror of it

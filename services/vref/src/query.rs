@@ -5,7 +5,7 @@ use vref_bridge::RemoteClient;
 use vref_bridge::json::AnswerJson;
 use vref_config::Config;
 use vref_wire::ipc::{IpcError, ReferenceClient};
-use vref_wire::{AnswerStatus, QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
+use vref_wire::{AnswerStatus, ReferenceAnswer, ReferenceQuery};
 
 use crate::cli::QueryArgs;
 use crate::failure::{Blame, Failure};
@@ -49,30 +49,11 @@ pub fn exit_code(status: AnswerStatus) -> u8 {
 
 /// The question the arguments ask (the request id is the client's).
 pub fn query_of(args: &QueryArgs) -> ReferenceQuery {
-    let mut query = ReferenceQuery {
-        request_id: 0,
-        human_object_id: 0,
-        ray_origin: [0.0; 3],
-        ray_direction: [0.0; 3],
-        cone_half_angle: 0.0,
-        kind: QueryKind::LatestGesture as u32,
-        schema_version: SCHEMA_VERSION,
-        reserved: 0,
-    };
     match (&args.human_object, &args.ray) {
-        (Some(id), _) => {
-            query.kind = QueryKind::HumanObject as u32;
-            query.human_object_id = *id;
-        }
-        (None, Some(r)) => {
-            query.kind = QueryKind::Ray as u32;
-            query.ray_origin = [r[0], r[1], r[2]];
-            query.ray_direction = [r[3], r[4], r[5]];
-            query.cone_half_angle = args.cone;
-        }
-        (None, None) => {}
+        (Some(id), _) => ReferenceQuery::human_object(*id),
+        (None, Some(r)) => ReferenceQuery::ray([r[0], r[1], r[2]], [r[3], r[4], r[5]], args.cone),
+        (None, None) => ReferenceQuery::latest_gesture(),
     }
-    query
 }
 
 fn ask_local(

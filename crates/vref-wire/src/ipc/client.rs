@@ -11,7 +11,7 @@ use super::{
     IpcSettings, Node, ReferencePort, create_node, open_answer_event, open_reference,
     open_request_event,
 };
-use crate::{QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION};
+use crate::{ReferenceAnswer, ReferenceQuery};
 
 /// Longest single sleep while waiting for an answer: the pending response
 /// is re-checked at least this often, whatever the events say.
@@ -127,10 +127,7 @@ impl ReferenceClient {
         id: u64,
         timeout: Duration,
     ) -> Result<ReferenceAnswer, IpcError> {
-        self.ask(
-            query(QueryKind::HumanObject, id, [0.0; 3], [0.0; 3], 0.0),
-            timeout,
-        )
+        self.ask(ReferenceQuery::human_object(id), timeout)
     }
 
     /// Which robot object does this ray (human view frame) point at?
@@ -142,17 +139,14 @@ impl ReferenceClient {
         timeout: Duration,
     ) -> Result<ReferenceAnswer, IpcError> {
         self.ask(
-            query(QueryKind::Ray, 0, origin, direction, cone_half_angle),
+            ReferenceQuery::ray(origin, direction, cone_half_angle),
             timeout,
         )
     }
 
     /// Which robot object does the latest gesture point at?
     pub fn latest_gesture(&mut self, timeout: Duration) -> Result<ReferenceAnswer, IpcError> {
-        self.ask(
-            query(QueryKind::LatestGesture, 0, [0.0; 3], [0.0; 3], 0.0),
-            timeout,
-        )
+        self.ask(ReferenceQuery::latest_gesture(), timeout)
     }
 
     /// Sends `query` (its request id is set here) and waits up to
@@ -251,22 +245,3 @@ impl ReferenceClient {
 }
 
 type Pending = PendingResponse<ipc::Service, ReferenceQuery, (), ReferenceAnswer, ()>;
-
-fn query(
-    kind: QueryKind,
-    id: u64,
-    origin: [f32; 3],
-    direction: [f32; 3],
-    cone: f32,
-) -> ReferenceQuery {
-    ReferenceQuery {
-        request_id: 0,
-        human_object_id: id,
-        ray_origin: origin,
-        ray_direction: direction,
-        cone_half_angle: cone,
-        kind: kind as u32,
-        schema_version: SCHEMA_VERSION,
-        reserved: 0,
-    }
-}
