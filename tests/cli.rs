@@ -166,6 +166,12 @@ fn bad_arguments_exit_2_with_a_reason() {
             vec!["import", "cmu-house", "/nonexistent", "--gap", "1"],
             "no frames",
         ),
+        // The reason under the setup error, not only its name; refused
+        // before any service starts.
+        (
+            vec!["bench", "remote", "--objects", "2", "--duration", "1s"],
+            "lets both views see at least 3 objects",
+        ),
     ];
     for (args, reason) in cases {
         let run = vref(&args, LIMIT);

@@ -83,7 +83,7 @@ pub fn run(
         return Err(RunError::BadInput("--objects: at least 2".to_owned()));
     }
     let (_, world) = synthetic_world(&config.feeds, Some(options.objects))
-        .map_err(|e| RunError::BadInput(e.to_string()))?;
+        .map_err(|e| RunError::bad_input(&e))?;
     let Isolation {
         binaries,
         dir,

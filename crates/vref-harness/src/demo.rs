@@ -103,8 +103,8 @@ pub fn run(
     let bad = |e: &dyn std::fmt::Display| RunError::BadInput(format!("{e:#}"));
     let (world, feed_args) = match &options.source {
         SourceSpec::Synthetic => {
-            let (_, world) =
-                synthetic_world(&config.feeds, options.objects).map_err(|e| bad(&e))?;
+            let (_, world) = synthetic_world(&config.feeds, options.objects)
+                .map_err(|e| RunError::bad_input(&e))?;
             let feed_args = match options.objects {
                 Some(n) => vec!["--objects".to_owned(), n.to_string()],
                 None => Vec::new(),

@@ -65,6 +65,19 @@ pub enum RunError {
 }
 
 impl RunError {
+    /// The caller's input was wrong, as `error` and every source under it
+    /// say (a setup error's own message names only what it was reading).
+    pub fn bad_input(error: &dyn std::error::Error) -> Self {
+        let mut text = error.to_string();
+        let mut source = error.source();
+        while let Some(e) = source {
+            text.push_str(": ");
+            text.push_str(&e.to_string());
+            source = e.source();
+        }
+        RunError::BadInput(text)
+    }
+
     /// Whether the caller asked wrong (exit 2 for the command line), not
     /// the run broke (exit 1).
     pub fn is_bad_input(&self) -> bool {
