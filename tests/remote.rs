@@ -425,7 +425,7 @@ fn sigterm_stops_the_bridge_cleanly() {
 }
 
 #[test]
-fn the_remote_bench_reports_both_round_trips() {
+fn the_remote_bench_reports_its_three_round_trips() {
     let run = support::vref(
         &[
             "bench",
@@ -445,10 +445,13 @@ fn the_remote_bench_reports_both_round_trips() {
         "remote_p99_us",
         "local_p50_us",
         "local_p99_us",
+        "zenoh_p50_us",
+        "zenoh_p99_us",
     ] {
         assert!(line[key].as_f64().unwrap() > 0.0, "{key}: {line}");
     }
-    assert!(line["remote_count"].as_u64().unwrap() > 0);
-    assert!(line["local_count"].as_u64().unwrap() > 0);
+    for count in ["remote_count", "local_count", "zenoh_count"] {
+        assert!(line[count].as_u64().unwrap() > 0, "{count}: {line}");
+    }
     assert_eq!(line["errors"], 0, "{line}");
 }

@@ -208,10 +208,14 @@ def soak_table(rows, _arg):
 def remote_table(rows, _arg):
     r = rows[0]
     out = percentiles(r, [("remote", f"over Zenoh ({r.get('encoding', '?')}), vref-bridge"),
-                          ("local", "local iceoryx2, same matcher")])
+                          ("local", "local iceoryx2, same matcher"),
+                          ("zenoh", "bare Zenoh: an echo queryable, no matcher")])
     out.append("")
     out.append(f"The bridge adds {ms(r['added_p50_us'])} at p50 and {ms(r['added_p99_us'])} at p99 "
                f"({r['rate_hz']:.0f} ticks/s for {r['duration_s']:.0f} s, loopback).")
+    if "bridge_over_zenoh_p50_us" in r:
+        out.append(f"Over the bare Zenoh round trip it adds {ms(r['bridge_over_zenoh_p50_us'])} at p50 and "
+                   f"{ms(r['bridge_over_zenoh_p99_us'])} at p99.")
     return out
 
 

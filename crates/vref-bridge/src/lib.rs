@@ -8,10 +8,12 @@
 //!   rate, then vref-wire's validation), counted by reason.
 //! - [`keys`]: one robot's Zenoh keys under its prefix (fleet naming).
 //! - [`net`]: Zenoh sessions from the settings, and [`net::RemoteClient`].
+//! - [`echo`]: a queryable with no matcher behind it, Zenoh's own floor.
 //!
-//! Everything but [`net`] is pure and tested without a network.
+//! Everything but [`net`] and [`echo`] is pure and tested without a network.
 
 pub mod binary;
+pub mod echo;
 mod error;
 pub mod format;
 pub mod intake;

@@ -7,7 +7,7 @@ use std::time::Duration;
 use vref_config::{BridgeSettings, ZenohMode};
 use vref_wire::{ReferenceAnswer, ReferenceQuery};
 use zenoh::Wait;
-use zenoh::query::QueryTarget;
+use zenoh::query::{ConsolidationMode, QueryTarget};
 
 use crate::error::zenoh_err;
 use crate::format::{Format, JSON, Message};
@@ -137,6 +137,9 @@ impl RemoteClient {
             .payload(payload)
             .encoding(Message::Query.encoding(self.format))
             .target(QueryTarget::BestMatching)
+            // One queryable answers once: Zenoh's default (latest) would hold
+            // the reply back until the query's final message.
+            .consolidation(ConsolidationMode::None)
             .timeout(timeout)
             .express(true)
             .wait()

@@ -3,6 +3,9 @@
 //! asks the same questions two ways: over Zenoh through the bridge, as a
 //! controller on another computer would, and over iceoryx2 to the matcher
 //! directly. The difference of the two is what the bridge and Zenoh add.
+//! A third way, a Zenoh queryable in this process that answers at once
+//! (`vref_bridge::echo`), is Zenoh's own round trip: the floor under the
+//! bridge on this machine.
 //!
 //! [`run`] returns the [`Report`], which renders itself as the command's
 //! JSON line or table.
@@ -10,6 +13,7 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+use vref_bridge::echo::Echo;
 use vref_bridge::{Format, NetError, RemoteClient};
 use vref_config::{BridgeSettings, Config, ZenohMode};
 use vref_feed::synthetic_world;
@@ -50,10 +54,12 @@ pub fn run(
         return Err(RunError::BadInput("--objects: at least 2".to_owned()));
     }
     let (_, world) = synthetic_world(&config.feeds, Some(options.objects))
-        .map_err(|e| RunError::BadInput(e.to_string()))?;
+        .map_err(|e| RunError::bad_input(&e))?;
     let bridge_binary = launch::binary(bin_dir, "vref-bridge")?;
     let endpoint = format!("tcp/127.0.0.1:{}", free_port()?);
     let prefix = format!("vref/bench{}", std::process::id());
+    let echo_endpoint = format!("tcp/127.0.0.1:{}", free_port()?);
+    let echo_prefix = format!("{prefix}-echo");
     let mut config = config.clone();
     config.bridge = BridgeSettings {
         mode: ZenohMode::Peer,
@@ -80,9 +86,17 @@ pub fn run(
     let mut command = std::process::Command::new(&bridge_binary);
     command.arg("--config").arg(&config_path);
     system.spawn("vref-bridge", command)?;
-    let outcome = measure(options, &own, &world, &endpoint, &prefix, &mut || {
-        system.ensure_running()
-    });
+    let outcome = Echo::start(&echo_endpoint, &echo_prefix)
+        .map_err(|e| RunError::Remote(format!("starting the Zenoh echo: {e}")))
+        .and_then(|_echo| {
+            let endpoints = Endpoints {
+                bridge: (&endpoint, &prefix),
+                echo: (&echo_endpoint, &echo_prefix),
+            };
+            measure(options, &own, &world, &endpoints, &mut || {
+                system.ensure_running()
+            })
+        });
     let stopped = system.stop();
     keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
     Ok(Finished {
@@ -98,11 +112,19 @@ fn free_port() -> Result<u16, RunError> {
     Ok(listener.local_addr().map_err(io)?.port())
 }
 
+/// Where the bridge and the echo listen, and their key prefixes.
+struct Endpoints<'a> {
+    bridge: (&'a str, &'a str),
+    echo: (&'a str, &'a str),
+}
+
 /// What one run measured.
 #[derive(Debug, Default)]
 pub struct Report {
     remote: Samples,
     local: Samples,
+    /// Bare Zenoh: the echo's round trip.
+    zenoh: Samples,
     /// Answers that did not go through the solution (not ready, stale, ...).
     other: u64,
     timeouts: u64,
@@ -120,14 +142,27 @@ fn measure(
     options: &RemoteBenchOptions,
     config: &Config,
     world: &LiveWorld,
-    endpoint: &str,
-    prefix: &str,
+    endpoints: &Endpoints<'_>,
     running: &mut dyn FnMut() -> Result<(), LaunchError>,
 ) -> Result<Report, RunError> {
     let pid = std::process::id();
     let mut local = ReferenceClient::connect(&config.ipc, &format!("vref-bench-local-{pid}"))?;
+    let (endpoint, prefix) = endpoints.bridge;
     let mut remote = connect_remote(endpoint, prefix, options.encoding, running)?;
+    let (echo_endpoint, echo_prefix) = endpoints.echo;
+    let mut zenoh = connect_remote(echo_endpoint, echo_prefix, options.encoding, running)?;
     wait_ready_both(&mut local, &mut remote, world, running)?;
+    wait_ready(READY_WITHIN, Duration::from_millis(100), || {
+        running()?;
+        let echoed = zenoh
+            .ask(ReferenceQuery::latest_gesture(), QUERY_TIMEOUT)
+            .is_ok_and(|a| answered(&a));
+        Ok(if echoed {
+            Readiness::Ready(())
+        } else {
+            Readiness::Waiting("answer from the Zenoh echo".to_owned())
+        })
+    })?;
 
     let mut report = Report::default();
     let period = Duration::from_secs_f64(1.0 / options.rate);
@@ -142,22 +177,13 @@ fn measure(
             ids_at = Instant::now();
         }
         let id = ids.get(tick % ids.len().max(1)).copied().unwrap_or(0);
-        // Alternate which goes first, so that noise falls on both alike.
-        let remote_first = tick.is_multiple_of(2);
-        for remote_turn in [remote_first, !remote_first] {
+        // Rotate which goes first, so that noise falls on all alike.
+        for turn in 0..3 {
             let asked = Instant::now();
-            if remote_turn {
-                match remote.ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT) {
-                    Ok(a) if answered(&a) => report.remote.push(asked.elapsed()),
-                    Ok(_) => report.other += 1,
-                    Err(NetError::NoReply { .. }) => report.timeouts += 1,
-                    Err(e) => {
-                        report.errors += 1;
-                        tracing::warn!("remote query: {e}");
-                    }
-                }
-            } else {
-                match local.ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT) {
+            match (tick + turn) % 3 {
+                0 => remote_turn(&mut remote, id, asked, &mut report, Way::Bridge),
+                1 => remote_turn(&mut zenoh, id, asked, &mut report, Way::Zenoh),
+                _ => match local.ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT) {
                     Ok(a) if answered(&a) => report.local.push(asked.elapsed()),
                     Ok(_) => report.other += 1,
                     Err(IpcError::Timeout { .. }) => report.timeouts += 1,
@@ -165,7 +191,7 @@ fn measure(
                         report.errors += 1;
                         tracing::warn!("local query: {e}");
                     }
-                }
+                },
             }
         }
         tick += 1;
@@ -174,6 +200,28 @@ fn measure(
         }
     }
     Ok(report)
+}
+
+/// Which Zenoh queryable a remote turn asks.
+#[derive(Clone, Copy)]
+enum Way {
+    Bridge,
+    Zenoh,
+}
+
+fn remote_turn(client: &mut RemoteClient, id: u64, asked: Instant, report: &mut Report, way: Way) {
+    match client.ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT) {
+        Ok(a) if answered(&a) => match way {
+            Way::Bridge => report.remote.push(asked.elapsed()),
+            Way::Zenoh => report.zenoh.push(asked.elapsed()),
+        },
+        Ok(_) => report.other += 1,
+        Err(NetError::NoReply { .. }) => report.timeouts += 1,
+        Err(e) => {
+            report.errors += 1;
+            tracing::warn!("remote query: {e}");
+        }
+    }
 }
 
 /// The bridge may not listen yet: a client session fails at once when
@@ -232,10 +280,7 @@ fn wait_ready_both(
 
 impl Report {
     fn added(&self, q: f64) -> Option<f64> {
-        match (self.remote.percentile(q), self.local.percentile(q)) {
-            (Some(r), Some(l)) => Some(r - l),
-            _ => None,
-        }
+        difference(&self.remote, &self.local, q)
     }
 
     pub fn json(&self, options: &RemoteBenchOptions) -> serde_json::Value {
@@ -247,10 +292,16 @@ impl Report {
             "local_p99_us": p(&self.local, 0.99),
             "added_p50_us": us(self.added(0.5)),
             "added_p99_us": us(self.added(0.99)),
+            "zenoh_p50_us": p(&self.zenoh, 0.5),
+            "zenoh_p99_us": p(&self.zenoh, 0.99),
+            "bridge_over_zenoh_p50_us": us(difference(&self.remote, &self.zenoh, 0.5)),
+            "bridge_over_zenoh_p99_us": us(difference(&self.remote, &self.zenoh, 0.99)),
             "remote_p999_us": p(&self.remote, 0.999),
             "local_p999_us": p(&self.local, 0.999),
+            "zenoh_p999_us": p(&self.zenoh, 0.999),
             "remote_count": self.remote.count(),
             "local_count": self.local.count(),
+            "zenoh_count": self.zenoh.count(),
             "other_count": self.other,
             "timeouts": self.timeouts,
             "errors": self.errors,
@@ -267,21 +318,32 @@ impl Report {
         for (name, s) in [
             ("remote (Zenoh, bridge)", &self.remote),
             ("local (iceoryx2)", &self.local),
+            ("bare Zenoh (echo, no matcher)", &self.zenoh),
         ] {
             table.row(s.row(name));
         }
         format!(
             "{} objects, {} encoding, {} ticks/s for {:?}\n{table}the bridge adds: p50 {} us, \
-             p99 {} us\nother answers {}, timeouts {}, errors {}\n",
+             p99 {} us (bare Zenoh's round trip: p50 {} us, p99 {} us)\nother answers {}, timeouts {}, errors {}\n",
             options.objects,
             options.encoding.name(),
             options.rate,
             options.duration,
             cell(self.added(0.5)),
             cell(self.added(0.99)),
+            cell(self.zenoh.percentile(0.5)),
+            cell(self.zenoh.percentile(0.99)),
             self.other,
             self.timeouts,
             self.errors,
         )
+    }
+}
+
+/// `a`'s percentile `q` less `b`'s.
+fn difference(a: &Samples, b: &Samples, q: f64) -> Option<f64> {
+    match (a.percentile(q), b.percentile(q)) {
+        (Some(x), Some(y)) => Some(x - y),
+        _ => None,
     }
 }

@@ -586,7 +586,9 @@ pub enum BenchCommand {
     /// a root path, prefix and loopback port of their own), and send
     /// reference queries at --rate both ways in the same run: over Zenoh
     /// through the bridge (as a controller on another computer would) and
-    /// over iceoryx2 to the matcher directly. Prints the round-trip
+    /// over iceoryx2 to the matcher directly; and a third way to a bare
+    /// Zenoh queryable in this process that answers at once (Zenoh's own
+    /// round trip, the floor under the bridge). Prints the round-trip
     /// percentiles of each and what the bridge adds.
     Remote(BenchRemoteArgs),
     /// Draw solve time against object count (log-log) from the JSON lines
@@ -693,8 +695,8 @@ pub struct BenchRemoteArgs {
     /// Objects in the synthetic world.
     #[arg(long, value_name = "N", default_value_t = 32)]
     pub objects: usize,
-    /// Ticks per second; each tick sends one remote and one local query,
-    /// in alternating order.
+    /// Ticks per second; each tick sends one query each way (bridge,
+    /// bare Zenoh echo, local iceoryx2), in rotating order.
     #[arg(long, value_name = "HZ", default_value_t = 200.0, value_parser = positive_rate)]
     pub rate: f64,
     /// How long to measure once both answer, e.g. 10s.
@@ -703,9 +705,9 @@ pub struct BenchRemoteArgs {
     /// How remote queries and answers travel: json or binary.
     #[arg(long, value_name = "E", default_value = "binary")]
     pub encoding: vref_bridge::Format,
-    /// Print one JSON object: remote_ and local_ p50, p99 and p999 in
-    /// microseconds, added_p50_us and added_p99_us (remote minus local),
-    /// counts.
+    /// Print one JSON object: remote_, local_ and zenoh_ (the bare echo)
+    /// p50 and p99 in microseconds, added_p50_us and added_p99_us (remote
+    /// minus local), bridge_over_zenoh_ (remote minus echo), counts.
     #[arg(long)]
     pub json: bool,
     /// Configuration file ([matcher] method, [feeds] rates and preset);
