@@ -17,6 +17,7 @@ from vref_client import (
     DecisionReader,
     MatcherNotRunning,
     MatcherStats,
+    QueryRefused,
     RayPublisher,
     ReferenceClient,
     SnapshotPublisher,
@@ -226,6 +227,25 @@ def test_no_matcher_and_a_dead_one_give_clear_errors(system: System) -> None:
         # A restarted matcher is reached by the same client.
         system.start("matcher", "vref-matcher")
         client.wait_for_matcher(timeout=READY_S)
+        assert client.by_human_object(1, timeout=2.0).status == "not_ready"
+
+
+def test_a_client_over_its_rate_is_told_so_and_the_matcher_keeps_serving(system: System) -> None:
+    """Over ``max_queries_per_client_hz`` the matcher lets requests go
+    unanswered; that is a refusal, not a stopped matcher."""
+    line = "cleanup_interval_ms = 100\n"
+    text = system.config.read_text()
+    assert line in text
+    system.config.write_text(text.replace(line, line + "max_queries_per_client_hz = 20\n"))
+    system.start("matcher", "vref-matcher")
+    with ReferenceClient(**system.ipc) as client:
+        client.wait_for_matcher(timeout=READY_S)
+        # A burst is 10 queries at this rate; a tight loop of 200 exceeds it.
+        with pytest.raises(QueryRefused, match="max_queries_per_client_hz"):
+            for _ in range(200):
+                client.by_human_object(1, timeout=2.0)
+        assert client.matcher_running
+        time.sleep(0.5)  # the bucket refills
         assert client.by_human_object(1, timeout=2.0).status == "not_ready"
 
 

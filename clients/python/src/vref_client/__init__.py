@@ -8,7 +8,14 @@ The wire types live in ``vref_client.wire``; docs/wire.md is the contract.
 """
 
 from .client import DEFAULT_CONE, Alternative, Answer, ReferenceClient
-from .errors import AnswerTimeout, IpcError, MatcherNotRunning, VrefError, WrongAnswer
+from .errors import (
+    AnswerTimeout,
+    IpcError,
+    MatcherNotRunning,
+    QueryRefused,
+    VrefError,
+    WrongAnswer,
+)
 from .publishers import RayPublisher, SnapshotPublisher
 from .readers import Decision, DecisionPair, DecisionReader, MatcherStats, StatsReader
 from .services import IpcSettings
@@ -29,6 +36,7 @@ __all__ = [
     "IpcSettings",
     "MatcherNotRunning",
     "MatcherStats",
+    "QueryRefused",
     "RayPublisher",
     "ReferenceClient",
     "SnapshotPublisher",

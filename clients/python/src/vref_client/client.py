@@ -12,7 +12,7 @@ import iceoryx2 as iox2
 import numpy as np
 
 from . import wire
-from .errors import AnswerTimeout, MatcherNotRunning, VrefError, WrongAnswer
+from .errors import AnswerTimeout, MatcherNotRunning, QueryRefused, VrefError, WrongAnswer
 from .services import Endpoint, IpcSettings, node_name, wrap
 from .validate import U64_MAX, check_timeout, check_u64, ray_parts
 
@@ -20,6 +20,10 @@ from .validate import U64_MAX, check_timeout, check_u64, ray_parts
 #: is re-checked at least this often, whatever the events say (as the Rust
 #: client does).
 POLL_S = 0.02
+#: How long a request let go unanswered must find the matcher still serving
+#: to count as refused rather than the matcher stopping (as the Rust client):
+#: a matcher that stops lets its requests go a moment before it leaves.
+REFUSED_AFTER_S = 0.1
 #: Cone half-angle of ``by_ray`` when none is given, radians (as `vref query`).
 DEFAULT_CONE = 0.1
 
@@ -263,6 +267,19 @@ class ReferenceClient(Endpoint):
                 raise MatcherNotRunning(self._not_running(f"within {wait:g} s"))
             time.sleep(min(0.05, left))
 
+    def _let_go(self) -> VrefError:
+        """Why the matcher let a request go unanswered: it stopped, or it
+        still serves after ``REFUSED_AFTER_S`` and so refused this client."""
+        deadline = time.monotonic() + REFUSED_AFTER_S
+        while self.matcher_running:
+            if time.monotonic() >= deadline:
+                return QueryRefused(
+                    "the matcher dropped the request unanswered: this client is over "
+                    "[matcher] max_queries_per_client_hz"
+                )
+            time.sleep(0.01)
+        return MatcherNotRunning(self._not_running("any more: it stopped before answering"))
+
     def _not_running(self, when: str) -> str:
         return (
             f"no vref matcher serves {self._c.names.reference()} {when} "
@@ -332,9 +349,7 @@ class ReferenceClient(Endpoint):
                     # before that is in by now, or none will come.
                     response = pending.receive()
                     if response is None:
-                        raise MatcherNotRunning(
-                            self._not_running("any more: it stopped before answering")
-                        )
+                        raise self._let_go()
             except VrefError:
                 raise
             except Exception as e:

@@ -22,5 +22,10 @@ class AnswerTimeout(VrefError, TimeoutError):
     """The matcher did not answer within the timeout (a ``TimeoutError``)."""
 
 
+class QueryRefused(VrefError):
+    """The matcher let the request go unanswered while it kept serving: this
+    client asks more often than ``[matcher] max_queries_per_client_hz``."""
+
+
 class WrongAnswer(VrefError):
     """An answer echoed another request's id."""
