@@ -227,7 +227,16 @@ def python_table(rows, _arg):
             f"{ms(r['python']['solve_p50_us'])} | {r['python']['cached_count']} |",
             f"| Rust `ReferenceClient` | {ms(r['rust']['cached_p50_us'])} | {ms(r['rust']['cached_p99_us'])} | "
             f"{ms(r['rust']['solve_p50_us'])} | {r['rust']['cached_count']} |",
-            "", f"Python / Rust cached p50: {r['ratio_cached_p50']:.2f}."]
+            "", f"Python / Rust cached p50: {r['ratio_cached_p50']:.2f}."] + wake_line(r)
+
+
+def wake_line(r):
+    w = r.get("wake")
+    if not w:
+        return []
+    return ["", f"One Python step (two ctypes field stores) right after sleeping {w['slept_ms']:g} ms: "
+                f"{w['after_sleep_p50_us']:.1f} us at p50; the same step again at once: "
+                f"{w['again_p50_us']:.2f} us (services stopped)."]
 
 
 def perception_table(rows, _arg):

@@ -64,3 +64,11 @@ def test_bench_names_what_is_wrong_with_a_duration() -> None:
     )
     assert run.returncode == 2
     assert "`10` has no unit: write e.g. 10s" in run.stderr
+
+
+def test_the_wake_cost_times_both_steps() -> None:
+    from vref_client import bench
+
+    wake = bench.wake_cost(0.001, samples=5)
+    assert wake["samples"] == 5 and wake["slept_ms"] == 1.0
+    assert wake["after_sleep_p50_us"] > 0 and wake["again_p50_us"] > 0

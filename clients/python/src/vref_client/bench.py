@@ -9,8 +9,10 @@ in its own process, so that both meet the same load. Prints round-trip
 percentiles of answers from the cached solution (and after a solve) for
 both, their ratio, and the CPU time this process spent: over the run, inside
 the queries, and during one second spent waiting for an answer that never
-comes (a server of its own that never answers). Percentiles are printed,
-never judged.
+comes (a server of its own that never answers); then, with the services
+stopped, what one small Python step costs right after sleeping one query
+period against the same step again at once (``wake_cost``). Percentiles
+are printed, never judged.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from . import wire
 from .client import ReferenceClient
 from .errors import AnswerTimeout, MatcherNotRunning
 # Re-exported: the one definition, as vref_client.bench.percentile was before.
@@ -208,6 +211,38 @@ def cpu_waiting(services: Services, seconds: float) -> dict[str, Any]:
     }
 
 
+def wake_cost(period: float, samples: int = 300) -> dict[str, Any]:
+    """What one small Python step (two ctypes field stores, as a query makes)
+    costs right after this process slept one query period, against the same
+    step again at once; measured after the services stopped, so no vref
+    process runs meanwhile. On a virtual machine the first steps after a
+    sleep run from cold caches, and a query is many such steps."""
+
+    def step(q: Any) -> None:
+        q.request_id = 1
+        q.kind = 3
+
+    q = wire.ReferenceQuery()
+    after_sleep: list[float] = []
+    again: list[float] = []
+    clock = time.perf_counter_ns
+    for _ in range(samples):
+        time.sleep(period)
+        t0 = clock()
+        step(q)
+        t1 = clock()
+        step(q)
+        t2 = clock()
+        after_sleep.append((t1 - t0) / 1e3)
+        again.append((t2 - t1) / 1e3)
+    return {
+        "slept_ms": round(period * 1e3, 3),
+        "samples": samples,
+        "after_sleep_p50_us": rounded(percentile(after_sleep, 0.5), 2),
+        "again_p50_us": rounded(percentile(again, 0.5), 2),
+    }
+
+
 def run(args: argparse.Namespace) -> dict[str, Any]:
     bins = find_binaries(args.bin_dir)
     directory = Path(tempfile.mkdtemp(prefix="vpb"))
@@ -251,6 +286,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         waiting = cpu_waiting(services, 1.0)
     finally:
         services.stop()
+        if not failed:
+            wake = wake_cost(1.0 / args.rate)
         if failed:
             print(f"vref_client.bench: the services' logs are in {directory}", file=sys.stderr)
         else:
@@ -269,6 +306,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         "python": python,
         "rust": rust_report,
         "waiting": waiting,
+        "wake": wake,
     }
 
 
@@ -293,6 +331,12 @@ def table(r: dict[str, Any]) -> str:
         f"{py['cpu_share_in_queries']:.1%} inside queries; waiting {wait['wait_s']} s for an "
         f"answer that never came ({wait['wait_outcome']}) cost {wait['wait_cpu_ms']} ms CPU "
         f"({wait['wait_cpu_share']:.2%})"
+    )
+    wake = r["wake"]
+    lines.append(
+        f"one Python step (two ctypes field stores) right after sleeping {wake['slept_ms']:g} ms: "
+        f"p50 {wake['after_sleep_p50_us']} us; the same step again at once: "
+        f"{wake['again_p50_us']} us (services stopped)"
     )
     return "\n".join(lines) + "\n"
 
