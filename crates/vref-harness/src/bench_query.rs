@@ -29,7 +29,7 @@ use vref_config::Config;
 use vref_feed::synthetic_world;
 use vref_scene::Side;
 use vref_sim::LiveWorld;
-use vref_wire::ipc::{DecisionReader, ReferenceClient, now_ns};
+use vref_wire::ipc::{DecisionReader, ReferenceClient, SnapshotWatch, now_ns};
 use vref_wire::{AnswerStatus, ReferenceAnswer};
 
 use crate::Finished;
@@ -197,9 +197,27 @@ fn unheard(config: &Config) -> Config {
     unheard
 }
 
-/// How long a feed of the idle phase may take to publish its first
-/// snapshot (its world is drawn first); the phase measures after it.
-const FEED_WARM_UP: Duration = Duration::from_secs(2);
+/// Returns once the feeds of the idle phase publish: each side's snapshot
+/// has been seen under the unheard namespace (`watches`, connected before
+/// the feeds started).
+fn wait_feeds_publish(
+    watches: &[(Side, SnapshotWatch)],
+    running: &mut dyn FnMut() -> Result<(), LaunchError>,
+) -> Result<(), ReadyError> {
+    let mut seen = vec![false; watches.len()];
+    wait_ready(READY_WITHIN, Duration::from_millis(50), || {
+        running()?;
+        for ((_, watch), seen) in watches.iter().zip(seen.iter_mut()) {
+            *seen = *seen || watch.latest()?.is_some();
+        }
+        Ok(match watches.iter().zip(&seen).find(|(_, s)| !**s) {
+            None => Readiness::Ready(()),
+            Some(((side, _), _)) => {
+                Readiness::Waiting(format!("{side:?} snapshot from the unheard feeds"))
+            }
+        })
+    })
+}
 /// How long a phase change settles before measuring.
 const SETTLE: Duration = Duration::from_millis(500);
 
@@ -235,8 +253,17 @@ fn run_phases(
         for feed in FEEDS {
             system.stop_one(feed)?;
         }
+        let quiet = unheard(config).ipc;
+        let watches = [Side::Robot, Side::Human]
+            .into_iter()
+            .map(|side| {
+                let name = format!("vref-bench-watch-{side:?}-{pid}");
+                SnapshotWatch::connect(&quiet, side, &name).map(|w| (side, w))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         restart.feeds(system, restart.unheard)?;
-        std::thread::sleep(FEED_WARM_UP);
+        wait_feeds_publish(&watches, &mut || system.ensure_running())?;
+        drop(watches);
         let idle = measure(args, &mut clients, world, &mut || system.ensure_running());
         for feed in FEEDS {
             system.stop_one(feed)?;

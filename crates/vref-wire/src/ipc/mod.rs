@@ -12,6 +12,7 @@ mod server;
 mod services;
 mod settings;
 mod stats;
+mod watch;
 
 pub use client::ReferenceClient;
 pub use decision::{Decision, DecisionError, DecisionPublisher, DecisionReader};
@@ -29,3 +30,4 @@ pub use services::{
 };
 pub use settings::IpcSettings;
 pub use stats::{StatsPublisher, StatsReader};
+pub use watch::SnapshotWatch;
