@@ -668,66 +668,8 @@ fn answers_below_the_ambiguity_threshold_are_ambiguous_with_alternatives() {
     );
 }
 
-/// Counts heap allocations made by the thread that enabled counting, so
-/// the query path's "no allocation" can be checked while the test
-/// harness's other threads allocate as they like.
-mod counting {
-    use std::alloc::{GlobalAlloc, Layout, System};
-    use std::cell::Cell;
-    use std::sync::atomic::{AtomicUsize, Ordering};
-
-    pub struct Counting;
-
-    static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-    thread_local! {
-        static ENABLED: Cell<bool> = const { Cell::new(false) };
-    }
-
-    fn note() {
-        // `try_with`: the allocator may run while thread locals are torn down.
-        if ENABLED.try_with(Cell::get).unwrap_or(false) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-    }
-
-    // SAFETY: every call is passed on unchanged to the system allocator;
-    // the counter neither allocates nor touches the memory.
-    #[allow(unsafe_code)]
-    unsafe impl GlobalAlloc for Counting {
-        unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-            note();
-            // SAFETY: the caller's contract is System's contract.
-            unsafe { System.alloc(layout) }
-        }
-        unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-            note();
-            // SAFETY: as above.
-            unsafe { System.alloc_zeroed(layout) }
-        }
-        unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-            note();
-            // SAFETY: as above.
-            unsafe { System.realloc(ptr, layout, new_size) }
-        }
-        unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-            // SAFETY: as above.
-            unsafe { System.dealloc(ptr, layout) }
-        }
-    }
-
-    /// Allocations made by this thread while `f` ran.
-    pub fn allocations_in<T>(f: impl FnOnce() -> T) -> (T, usize) {
-        let before = ALLOCATIONS.load(Ordering::Relaxed);
-        ENABLED.with(|e| e.set(true));
-        let value = f();
-        ENABLED.with(|e| e.set(false));
-        (value, ALLOCATIONS.load(Ordering::Relaxed) - before)
-    }
-}
-
 #[global_allocator]
-static ALLOCATOR: counting::Counting = counting::Counting;
+static ALLOCATOR: vref_alloc_count::Counting = vref_alloc_count::Counting;
 
 #[test]
 fn cached_answers_allocate_nothing() {
@@ -744,16 +686,16 @@ fn cached_answers_allocate_nothing() {
         ];
         // The solve allocates, on the solver's side of the hand-off ...
         publish_moved(&mut s, 2, 0.01, &now);
-        let (_, solving) = counting::allocations_in(|| s.solve());
+        let (_, solving) = vref_alloc_count::allocations_in(|| s.solve());
         assert!(solving > 0, "{method}: the solve itself allocates");
         // ... and no query does, of any kind, nor picking up the solution.
         let newest = Arc::new(s.solver.solve(&s.state.latest_pair().unwrap()).unwrap());
-        let (retired, installing) = counting::allocations_in(|| s.state.install(newest));
+        let (retired, installing) = vref_alloc_count::allocations_in(|| s.state.install(newest));
         assert_eq!(installing, 0, "{method}: installing a solution allocated");
         drop(retired);
         for q in &queries {
             let asked = Now::read();
-            let (answer, allocations) = counting::allocations_in(|| s.answer(q, &asked));
+            let (answer, allocations) = vref_alloc_count::allocations_in(|| s.answer(q, &asked));
             assert_ne!(answer.status, AnswerStatus::NotReady as u32);
             assert_eq!(
                 allocations, 0,
