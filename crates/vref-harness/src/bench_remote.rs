@@ -56,9 +56,10 @@ pub fn run(
     let (_, world) = synthetic_world(&config.feeds, Some(options.objects))
         .map_err(|e| RunError::bad_input(&e))?;
     let bridge_binary = launch::binary(bin_dir, "vref-bridge")?;
-    let endpoint = format!("tcp/127.0.0.1:{}", free_port()?);
+    let [bridge_port, echo_port] = free_ports()?;
+    let endpoint = format!("tcp/127.0.0.1:{bridge_port}");
     let prefix = format!("vref/bench{}", std::process::id());
-    let echo_endpoint = format!("tcp/127.0.0.1:{}", free_port()?);
+    let echo_endpoint = format!("tcp/127.0.0.1:{echo_port}");
     let echo_prefix = format!("{prefix}-echo");
     let mut config = config.clone();
     config.bridge = BridgeSettings {
@@ -105,11 +106,16 @@ pub fn run(
     })
 }
 
-/// A loopback port free a moment ago, for the bridge to listen on.
-fn free_port() -> Result<u16, RunError> {
+/// Two loopback ports free a moment ago, for the bridge and the echo to
+/// listen on; both are held while the second is found, so they differ.
+fn free_ports() -> Result<[u16; 2], RunError> {
     let io = |e: std::io::Error| RunError::Remote(format!("finding a free loopback port: {e}"));
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").map_err(io)?;
-    Ok(listener.local_addr().map_err(io)?.port())
+    let first = std::net::TcpListener::bind("127.0.0.1:0").map_err(io)?;
+    let second = std::net::TcpListener::bind("127.0.0.1:0").map_err(io)?;
+    Ok([
+        first.local_addr().map_err(io)?.port(),
+        second.local_addr().map_err(io)?.port(),
+    ])
 }
 
 /// Where the bridge and the echo listen, and their key prefixes.
