@@ -411,3 +411,34 @@ fn every_simd_path_gives_the_exact_tier_the_same_answers() {
         }
     }
 }
+
+#[test]
+fn a_remote_query_to_nothing_says_where_it_tried_once_without_zenohs_noise() {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let endpoint = format!("tcp/127.0.0.1:{port}");
+    let run = vref(
+        &[
+            "query",
+            "--remote",
+            &endpoint,
+            "--prefix",
+            "vref/nobody",
+            "--latest-gesture",
+        ],
+        LIMIT,
+    );
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains(&format!("connecting to {endpoint} over Zenoh")),
+        "{}",
+        run.stderr
+    );
+    // Zenoh's own warnings and source locations stay out of the message.
+    assert!(!run.stderr.contains("WARN"), "{}", run.stderr);
+    assert!(!run.stderr.contains(".rs:"), "{}", run.stderr);
+}

@@ -60,6 +60,38 @@ pub enum NetError {
 pub(crate) fn zenoh_err(what: impl Into<String>, error: impl std::fmt::Display) -> NetError {
     NetError::Zenoh {
         what: what.into(),
-        message: error.to_string(),
+        message: without_location(&error.to_string()).to_owned(),
+    }
+}
+
+/// Zenoh's message without the source location it appends (" at
+/// /path/to/zenoh/src/file.rs:447."), which names Zenoh's code, not the
+/// user's problem.
+fn without_location(message: &str) -> &str {
+    match message.rfind(" at /") {
+        Some(k) if message[k..].contains(".rs:") => message[..k].trim_end(),
+        _ => message,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zenoh_source_locations_are_cut_and_other_text_kept() {
+        let e = zenoh_err(
+            "connecting",
+            "Unable to connect to any of [Single(tcp/127.0.0.1:1)]!  at /root/.cargo/registry/src/zenoh-1.10.2/src/net/runtime/orchestrator.rs:447.",
+        );
+        assert_eq!(
+            e.to_string(),
+            "connecting: Unable to connect to any of [Single(tcp/127.0.0.1:1)]!"
+        );
+        let plain = zenoh_err("declaring", "key expression at /a/b is invalid");
+        assert_eq!(
+            plain.to_string(),
+            "declaring: key expression at /a/b is invalid"
+        );
     }
 }

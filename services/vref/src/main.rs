@@ -39,7 +39,10 @@ use crate::cli::{BenchCommand, Cli, Command, ConfigCommand, ImportCommand};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    vref_logging::init("warn");
+    // Zenoh warns of every failed connection attempt before its error
+    // reaches vref, which then says the same once: its own warnings only
+    // with RUST_LOG.
+    vref_logging::init("warn,zenoh=error");
     let result = match cli.command {
         Command::Eval(args) => eval::run(&args),
         Command::Import(ImportCommand::CmuHouse(args)) => import::cmu_house(&args),

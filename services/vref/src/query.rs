@@ -100,8 +100,9 @@ fn ask_remote(
     vref_config::check_prefix(prefix)
         .map_err(|e| anyhow::anyhow!("--prefix `{prefix}`: {e}"))
         .bad_input()?;
+    // RemoteClient's error names the endpoint already.
     let mut client = RemoteClient::connect(endpoint, prefix, args.encoding)
-        .context("connecting over Zenoh")
+        .map_err(anyhow::Error::from)
         .runtime()?;
     let start = Instant::now();
     let answer = client
