@@ -172,6 +172,10 @@ fn bad_arguments_exit_2_with_a_reason() {
             vec!["bench", "remote", "--objects", "2", "--duration", "1s"],
             "lets both views see at least 3 objects",
         ),
+        (
+            vec!["demo", "--source", "bop:/nonexistent"],
+            "no scene folders found",
+        ),
     ];
     for (args, reason) in cases {
         let run = vref(&args, LIMIT);

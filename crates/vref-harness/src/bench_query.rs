@@ -72,6 +72,16 @@ pub struct Reports {
     pub idle: Option<Report>,
 }
 
+/// The synthetic world of a benchmark of `objects` objects (at least 2),
+/// computed here too: the benchmarks ask about the objects the feeds
+/// publish.
+pub(crate) fn bench_world(config: &Config, objects: usize) -> Result<LiveWorld, RunError> {
+    if objects < 2 {
+        return Err(RunError::BadInput("--objects: at least 2".to_owned()));
+    }
+    Ok(synthetic_world(&config.feeds, Some(objects))?.1)
+}
+
 /// Runs the benchmark: the echo server (and the viewer), then the
 /// matcher and both feeds from `bin_dir` under `config` isolated.
 pub fn run(
@@ -79,11 +89,7 @@ pub fn run(
     config: &Config,
     bin_dir: &Path,
 ) -> Result<Finished<Reports>, RunError> {
-    if options.objects < 2 {
-        return Err(RunError::BadInput("--objects: at least 2".to_owned()));
-    }
-    let (_, world) = synthetic_world(&config.feeds, Some(options.objects))
-        .map_err(|e| RunError::bad_input(&e))?;
+    let world = bench_world(config, options.objects)?;
     let Isolation {
         binaries,
         dir,

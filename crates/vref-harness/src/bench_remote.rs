@@ -16,12 +16,11 @@ use std::time::{Duration, Instant};
 use vref_bridge::echo::Echo;
 use vref_bridge::{Format, NetError, RemoteClient};
 use vref_config::{BridgeSettings, Config, ZenohMode};
-use vref_feed::synthetic_world;
 use vref_sim::LiveWorld;
 use vref_wire::ipc::{IpcError, ReferenceClient};
 use vref_wire::{AnswerStatus, ReferenceAnswer, ReferenceQuery};
 
-use crate::bench_query::human_ids;
+use crate::bench_query::{bench_world, human_ids};
 use crate::launch::{self, Isolation, LaunchError, Services, keep_logs_if, prepare};
 use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::samples::{ROW_HEADER, Samples, us};
@@ -50,11 +49,7 @@ pub fn run(
     config: &Config,
     bin_dir: &Path,
 ) -> Result<Finished<Report>, RunError> {
-    if options.objects < 2 {
-        return Err(RunError::BadInput("--objects: at least 2".to_owned()));
-    }
-    let (_, world) = synthetic_world(&config.feeds, Some(options.objects))
-        .map_err(|e| RunError::bad_input(&e))?;
+    let world = bench_world(config, options.objects)?;
     let bridge_binary = launch::binary(bin_dir, "vref-bridge")?;
     let [bridge_port, echo_port] = free_ports()?;
     let endpoint = format!("tcp/127.0.0.1:{bridge_port}");
@@ -154,9 +149,15 @@ fn measure(
     let pid = std::process::id();
     let mut local = ReferenceClient::connect(&config.ipc, &format!("vref-bench-local-{pid}"))?;
     let (endpoint, prefix) = endpoints.bridge;
-    let mut remote = connect_remote(endpoint, prefix, options.encoding, running)?;
+    let mut remote = connect_remote("bridge", endpoint, prefix, options.encoding, running)?;
     let (echo_endpoint, echo_prefix) = endpoints.echo;
-    let mut zenoh = connect_remote(echo_endpoint, echo_prefix, options.encoding, running)?;
+    let mut zenoh = connect_remote(
+        "Zenoh echo",
+        echo_endpoint,
+        echo_prefix,
+        options.encoding,
+        running,
+    )?;
     wait_ready_both(&mut local, &mut remote, world, running)?;
     wait_ready(READY_WITHIN, Duration::from_millis(100), || {
         running()?;
@@ -185,20 +186,15 @@ fn measure(
         let id = ids.get(tick % ids.len().max(1)).copied().unwrap_or(0);
         // Rotate which goes first, so that noise falls on all alike.
         for turn in 0..3 {
+            let way = WAYS[(tick + turn) % WAYS.len()];
             let asked = Instant::now();
-            match (tick + turn) % 3 {
-                0 => remote_turn(&mut remote, id, asked, &mut report, Way::Bridge),
-                1 => remote_turn(&mut zenoh, id, asked, &mut report, Way::Zenoh),
-                _ => match local.ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT) {
-                    Ok(a) if answered(&a) => report.local.push(asked.elapsed()),
-                    Ok(_) => report.other += 1,
-                    Err(IpcError::Timeout { .. }) => report.timeouts += 1,
-                    Err(e) => {
-                        report.errors += 1;
-                        tracing::warn!("local query: {e}");
-                    }
-                },
-            }
+            let query = ReferenceQuery::human_object(id);
+            let outcome = match way {
+                Way::Bridge => Outcome::remote(remote.ask(query, QUERY_TIMEOUT)),
+                Way::Zenoh => Outcome::remote(zenoh.ask(query, QUERY_TIMEOUT)),
+                Way::Local => Outcome::local(local.ask(query, QUERY_TIMEOUT)),
+            };
+            report.tally(way, outcome, asked.elapsed());
         }
         tick += 1;
         if let Some(rest) = period.checked_sub(started.elapsed()) {
@@ -208,24 +204,47 @@ fn measure(
     Ok(report)
 }
 
-/// Which Zenoh queryable a remote turn asks.
-#[derive(Clone, Copy)]
+/// The three ways a tick asks.
+#[derive(Debug, Clone, Copy)]
 enum Way {
     Bridge,
     Zenoh,
+    Local,
 }
 
-fn remote_turn(client: &mut RemoteClient, id: u64, asked: Instant, report: &mut Report, way: Way) {
-    match client.ask(ReferenceQuery::human_object(id), QUERY_TIMEOUT) {
-        Ok(a) if answered(&a) => match way {
-            Way::Bridge => report.remote.push(asked.elapsed()),
-            Way::Zenoh => report.zenoh.push(asked.elapsed()),
-        },
-        Ok(_) => report.other += 1,
-        Err(NetError::NoReply { .. }) => report.timeouts += 1,
-        Err(e) => {
-            report.errors += 1;
-            tracing::warn!("remote query: {e}");
+const WAYS: [Way; 3] = [Way::Bridge, Way::Zenoh, Way::Local];
+
+/// What one question came to, whichever way it went.
+enum Outcome {
+    /// Answered from the solution (the round trip counts).
+    Answered,
+    Other,
+    Timeout,
+    Failed(String),
+}
+
+impl Outcome {
+    fn remote(asked: Result<ReferenceAnswer, NetError>) -> Self {
+        match asked {
+            Ok(a) => Self::answer(&a),
+            Err(NetError::NoReply { .. }) => Self::Timeout,
+            Err(e) => Self::Failed(e.to_string()),
+        }
+    }
+
+    fn local(asked: Result<ReferenceAnswer, IpcError>) -> Self {
+        match asked {
+            Ok(a) => Self::answer(&a),
+            Err(IpcError::Timeout { .. }) => Self::Timeout,
+            Err(e) => Self::Failed(e.to_string()),
+        }
+    }
+
+    fn answer(a: &ReferenceAnswer) -> Self {
+        if answered(a) {
+            Self::Answered
+        } else {
+            Self::Other
         }
     }
 }
@@ -233,6 +252,7 @@ fn remote_turn(client: &mut RemoteClient, id: u64, asked: Instant, report: &mut 
 /// The bridge may not listen yet: a client session fails at once when
 /// nothing answers at the endpoint, so it is retried.
 fn connect_remote(
+    what: &str,
     endpoint: &str,
     prefix: &str,
     format: Format,
@@ -245,13 +265,13 @@ fn connect_remote(
             Ok(client) => Readiness::Ready(client),
             Err(e) => {
                 last = e.to_string();
-                Readiness::Waiting(format!("session with the bridge at {endpoint}"))
+                Readiness::Waiting(format!("session with the {what} at {endpoint}"))
             }
         })
     })
     .map_err(|e| {
         RunError::Remote(format!(
-            "connecting to the bridge at {endpoint}: {e} ({last})"
+            "connecting to the {what} at {endpoint}: {e} ({last})"
         ))
     })
 }
@@ -285,6 +305,22 @@ fn wait_ready_both(
 }
 
 impl Report {
+    fn tally(&mut self, way: Way, outcome: Outcome, took: Duration) {
+        match outcome {
+            Outcome::Answered => match way {
+                Way::Bridge => self.remote.push(took),
+                Way::Zenoh => self.zenoh.push(took),
+                Way::Local => self.local.push(took),
+            },
+            Outcome::Other => self.other += 1,
+            Outcome::Timeout => self.timeouts += 1,
+            Outcome::Failed(e) => {
+                self.errors += 1;
+                tracing::warn!("{way:?} query: {e}");
+            }
+        }
+    }
+
     fn added(&self, q: f64) -> Option<f64> {
         difference(&self.remote, &self.local, q)
     }

@@ -100,11 +100,9 @@ pub fn run(
     bin_dir: &Path,
     on_line: &mut dyn FnMut(&str) -> Result<(), String>,
 ) -> Result<Finished<Summary>, RunError> {
-    let bad = |e: &dyn std::fmt::Display| RunError::BadInput(format!("{e:#}"));
     let (world, feed_args) = match &options.source {
         SourceSpec::Synthetic => {
-            let (_, world) = synthetic_world(&config.feeds, options.objects)
-                .map_err(|e| RunError::bad_input(&e))?;
+            let (_, world) = synthetic_world(&config.feeds, options.objects)?;
             let feed_args = match options.objects {
                 Some(n) => vec!["--objects".to_owned(), n.to_string()],
                 None => Vec::new(),
@@ -117,8 +115,7 @@ pub fn run(
                 config.perception,
                 config.scene.limits(),
                 options.hold_s,
-            )
-            .map_err(|e| bad(&e))?;
+            )?;
             let feed_args = vec![
                 "--source".to_owned(),
                 format!("bop:{}", dir.display()),

@@ -64,10 +64,12 @@ pub enum RunError {
     Output(String),
 }
 
-impl RunError {
-    /// The caller's input was wrong, as `error` and every source under it
-    /// say (a setup error's own message names only what it was reading).
-    pub fn bad_input(error: &dyn std::error::Error) -> Self {
+/// A feed's setup error (a world, a data set) is the caller's input; its
+/// text is the error and every source under it, since a setup error's own
+/// message names only what it was reading.
+impl From<vref_feed::SetupError> for RunError {
+    fn from(error: vref_feed::SetupError) -> Self {
+        use std::error::Error as _;
         let mut text = error.to_string();
         let mut source = error.source();
         while let Some(e) = source {
@@ -77,7 +79,9 @@ impl RunError {
         }
         RunError::BadInput(text)
     }
+}
 
+impl RunError {
     /// Whether the caller asked wrong (exit 2 for the command line), not
     /// the run broke (exit 1).
     pub fn is_bad_input(&self) -> bool {

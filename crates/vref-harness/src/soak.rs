@@ -51,8 +51,7 @@ pub fn run(
 ) -> Result<Finished<Report>, RunError> {
     // The world the feeds publish, computed here too: queries point where
     // the person points.
-    let (_, world) =
-        synthetic_world(&config.feeds, options.objects).map_err(|e| RunError::bad_input(&e))?;
+    let (_, world) = synthetic_world(&config.feeds, options.objects)?;
     let Isolation {
         binaries,
         dir,
