@@ -72,3 +72,14 @@ def test_unknown_status_reads_as_bad_request_and_counts_are_bounded() -> None:
     assert answer.status == "bad_request"
     assert len(answer.alternatives) == wire.MAX_ALTERNATIVES
     assert answer.human_frame_position is None
+
+
+def test_the_query_struct_packs_as_the_wire_type() -> None:
+    from vref_client.client import QUERY_STRUCT
+
+    q = wire.ReferenceQuery()
+    assert QUERY_STRUCT.size == ctypes.sizeof(q)
+    QUERY_STRUCT.pack_into(q, 0, 11, 12, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 0.25, 3, 7, 8)
+    assert (q.request_id, q.human_object_id) == (11, 12)
+    assert list(q.ray_origin) == [1.0, 2.0, 3.0] and list(q.ray_direction) == [4.0, 5.0, 6.0]
+    assert (q.cone_half_angle, q.kind, q.schema_version, q.reserved) == (0.25, 3, 7, 8)

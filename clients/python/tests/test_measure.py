@@ -57,13 +57,21 @@ def test_bench_names_what_is_wrong_with_a_duration() -> None:
     import sys
 
     run = subprocess.run(
-        [sys.executable, "-m", "vref_client.bench", "--duration", "10"],
+        [sys.executable, "-m", "vref_client.bench", "--duration", "ten"],
         capture_output=True,
         text=True,
         timeout=60,
     )
     assert run.returncode == 2
-    assert "`10` has no unit: write e.g. 10s" in run.stderr
+    assert "`ten` is not a duration" in run.stderr
+
+
+def test_the_bench_takes_bare_seconds() -> None:
+    from vref_client import bench
+
+    assert bench.duration_argument("10") == 10.0
+    assert bench.duration_argument("0.5") == 0.5
+    assert bench.duration_argument("250ms") == 0.25
 
 
 def test_the_wake_cost_times_both_steps() -> None:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import resource
 import shutil
 import subprocess
@@ -41,13 +42,16 @@ from .services import Connection, IpcSettings
 SERVICES = ("vref-matcher", "vref-perception-feed", "vref-gesture-feed")
 READY_S = 30.0
 QUERY_TIMEOUT_S = 2.0
+_BARE_NUMBER = re.compile(r"^\s*[0-9]*\.?[0-9]+\s*$")
 
 
 def duration_argument(text: str) -> float:
     """``parse_duration`` for argparse, which would otherwise print only
-    "invalid value" and drop the reason (a bare ``10`` has no unit)."""
+    "invalid value" and drop the reason. A bare number is seconds here
+    (``--duration 10``, the spelling issue 16 gives), unlike vref's own
+    flags: this bench has no other unit a plain number could mean."""
     try:
-        return parse_duration(text)
+        return parse_duration(text + "s" if _BARE_NUMBER.match(text) else text)
     except ValueError as e:
         raise argparse.ArgumentTypeError(str(e)) from e
 
@@ -347,7 +351,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         description=__doc__.split("\n\n")[1] if __doc__ else None,
     )
     parser.add_argument(
-        "--duration", type=duration_argument, default=10.0, help="how long to measure, e.g. 10s"
+        "--duration", type=duration_argument, default=10.0, help="how long to measure: 10s, 500ms, or seconds (10)"
     )
     parser.add_argument(
         "--rate", type=float, default=200.0, help="queries per second of each client"

@@ -32,6 +32,7 @@ _ANSWER_SIZE = ctypes.sizeof(wire.ReferenceAnswer)
 _QUERY_SIZE = ctypes.sizeof(wire.ReferenceQuery)
 _POLL = iox2.Duration.from_secs_f64(POLL_S)
 _INF = float("inf")
+_Ray = tuple[tuple[float, float, float], tuple[float, float, float], float]
 _HUMAN_OBJECT = wire.QUERY_KINDS["human_object"]
 _LATEST_GESTURE = wire.QUERY_KINDS["latest_gesture"]
 
@@ -47,19 +48,74 @@ class Alternative(NamedTuple):
 #: the wire type has none); tests/test_client.py checks it against the
 #: ctypes structure, which tests/test_layout.py checks against the layout.
 ANSWER_STRUCT = struct.Struct("<9Q3f3ff3I" + "QfI" * wire.MAX_ALTERNATIVES + "II")
+#: ``ReferenceQuery`` likewise; tests/test_client.py checks it too.
+QUERY_STRUCT = struct.Struct("<2Q3f3ffIII")
+_PACK_QUERY = QUERY_STRUCT.pack_into
+_UNPACK_ANSWER = ANSWER_STRUCT.unpack_from
+_SCHEMA = wire.SCHEMA_VERSION
+_NO_RAY = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 0.0)
+#: Chunk views kept per direction before the cache starts over: iceoryx2
+#: reuses a fixed pool of chunks, so a few dozen addresses recur; only a
+#: matcher restarted many times makes new ones.
+_MAX_CHUNK_VIEWS = 1024
+_new_tuple = tuple.__new__
 _SOLVED = wire.ANSWER_FLAGS["solved"]
 _HUMAN_POSITION = wire.ANSWER_FLAGS["human_position"]
 _FROM_MOTION = wire.ANSWER_FLAGS["human_position_from_motion"]
 
 
 def _alternatives(v: tuple[Any, ...], count: int) -> tuple[Alternative, ...]:
-    if count == 0:
-        return ()
+    # tuple.__new__ directly: a NamedTuple's own __new__ is one more Python
+    # call, and every Python step on the query path costs (docs/python.md).
     if count == 1:
-        return (Alternative(v[19], v[20]),)
+        return (_new_tuple(Alternative, (v[19], v[20])),)
     if count == 2:
-        return (Alternative(v[19], v[20]), Alternative(v[22], v[23]))
-    return (Alternative(v[19], v[20]), Alternative(v[22], v[23]), Alternative(v[25], v[26]))
+        return (_new_tuple(Alternative, (v[19], v[20])), _new_tuple(Alternative, (v[22], v[23])))
+    return (
+        _new_tuple(Alternative, (v[19], v[20])),
+        _new_tuple(Alternative, (v[22], v[23])),
+        _new_tuple(Alternative, (v[25], v[26])),
+    )
+
+
+def _answer(v: tuple[Any, ...]) -> Answer:
+    """An answer from the values of ``ANSWER_STRUCT``."""
+    # 0-8 the u64s, 9-11 position, 12-14 human_frame_position,
+    # 15 confidence, 16 status, 17 alternative_count, 18 schema_version,
+    # 19-27 alternatives (id, confidence, reserved), 28 flags.
+    flags = v[28]
+    count = v[17]
+    return _new_tuple(
+        Answer,
+        (
+            _STATUS_NAMES.get(v[16], "bad_request"),
+            v[0],
+            v[1],
+            v[2],
+            v[9:12],
+            v[15],
+            _alternatives(v, count) if count else (),
+            v[3],
+            v[4],
+            v[5],
+            v[6],
+            flags & _SOLVED != 0,
+            v[7],
+            v[8],
+            v[12:15] if flags & _HUMAN_POSITION else None,
+            flags & _FROM_MOTION != 0,
+            flags,
+        ),
+    )
+
+
+def _chunk_view(views: dict[int, Any], address: int, size: int) -> Any:
+    """``size`` bytes of shared memory at ``address`` as a ctypes array that
+    ``struct`` packs into and unpacks from, made once per chunk."""
+    if len(views) >= _MAX_CHUNK_VIEWS:
+        views.clear()
+    view = views[address] = (ctypes.c_char * size).from_address(address)
+    return view
 
 
 class Answer(NamedTuple):
@@ -116,31 +172,7 @@ class Answer(NamedTuple):
     @staticmethod
     def from_bytes(raw: bytes) -> Answer:
         """An answer from the bytes of a ``ReferenceAnswer``."""
-        v = ANSWER_STRUCT.unpack(raw)
-        # 0-8 the u64s, 9-11 position, 12-14 human_frame_position,
-        # 15 confidence, 16 status, 17 alternative_count, 18 schema_version,
-        # 19-27 alternatives (id, confidence, reserved), 28 flags.
-        flags = v[28]
-        count = min(v[17], wire.MAX_ALTERNATIVES)
-        return Answer(
-            _STATUS_NAMES.get(v[16], "bad_request"),
-            v[0],
-            v[1],
-            v[2],
-            (v[9], v[10], v[11]),
-            v[15],
-            _alternatives(v, count),
-            v[3],
-            v[4],
-            v[5],
-            v[6],
-            bool(flags & _SOLVED),
-            v[7],
-            v[8],
-            (v[12], v[13], v[14]) if flags & _HUMAN_POSITION else None,
-            bool(flags & _FROM_MOTION),
-            flags,
-        )
+        return _answer(ANSWER_STRUCT.unpack(raw))
 
     @staticmethod
     def from_wire(a: wire.ReferenceAnswer) -> Answer:
@@ -209,11 +241,12 @@ class ReferenceClient(Endpoint):
             raise wrap("creating the reference client's ports", e) from e
         self._next_request = 1
         self._query = wire.ReferenceQuery(schema_version=wire.SCHEMA_VERSION)
-        self._query_address = ctypes.addressof(self._query)
+        self._query_views: dict[int, Any] = {}
+        self._answer_views: dict[int, Any] = {}
         loan = getattr(self._client, "__loan_uninit", None)
         if loan is not None and hasattr(iox2.RequestMutUninit, "__assume_init"):
             self._loan = loan
-            self._send: Callable[[], Any] = self._send_direct
+            self._send: Callable[[int, int, int, _Ray], Any] = self._send_direct
         else:
             self._send = self._send_public
 
@@ -290,31 +323,17 @@ class ReferenceClient(Endpoint):
         self,
         kind: int,
         human_id: int,
-        ray: tuple[tuple[float, float, float], tuple[float, float, float], float] | None,
+        ray: _Ray | None,
         timeout: float,
     ) -> Answer:
         # The query path is kept short: every Python step costs more than the
         # iceoryx2 round trip it wraps, the more so on a busy machine.
-        deadline = time.monotonic() + timeout
         if self._conn is None:
             raise VrefError("this ReferenceClient is closed")
         request_id = self._next_request
         self._next_request = request_id + 1
-        q = self._query
-        q.request_id = request_id
-        q.human_object_id = human_id
-        if ray is None:
-            if q.cone_half_angle:
-                q.ray_origin[:] = (0.0, 0.0, 0.0)
-                q.ray_direction[:] = (0.0, 0.0, 0.0)
-                q.cone_half_angle = 0.0
-        else:
-            q.ray_origin[:] = ray[0]
-            q.ray_direction[:] = ray[1]
-            q.cone_half_angle = ray[2]
-        q.kind = kind
         try:
-            pending = self._send()
+            pending = self._send(request_id, kind, human_id, _NO_RAY if ray is None else ray)
         except Exception as e:
             raise wrap("sending a reference query", e) from e
         try:
@@ -324,23 +343,41 @@ class ReferenceClient(Endpoint):
                 self._request_notifier.notify()
             except Exception as e:
                 raise wrap("notifying the matcher of a query", e) from e
-            return self._wait(pending, request_id, deadline, timeout)
+            return self._wait(pending, request_id, timeout)
         finally:
             pending.delete()
 
-    def _send_public(self) -> Any:
+    def _send_public(self, request_id: int, kind: int, human_id: int, ray: _Ray) -> Any:
         """Loans a request, copies the query in, sends it (iceoryx2's API)."""
-        return self._client.send_copy(self._query)
+        q = self._query
+        q.request_id = request_id
+        q.human_object_id = human_id
+        q.ray_origin[:] = ray[0]
+        q.ray_direction[:] = ray[1]
+        q.cone_half_angle = ray[2]
+        q.kind = kind
+        return self._client.send_copy(q)
 
-    def _send_direct(self) -> Any:
+    def _send_direct(self, request_id: int, kind: int, human_id: int, ray: _Ray) -> Any:
         """``_send_public`` without the Python wrapper's checks, through the
-        two native calls it makes (iceoryx2 0.10.0, pinned); the checks it
-        skips hold by construction (one request type, of the right size)."""
+        two native calls it makes (iceoryx2 0.10.0, pinned), the query packed
+        straight into the loaned chunk; the checks it skips hold by
+        construction (one request type, of the right size)."""
         request = self._loan()
-        ctypes.memmove(request.payload_ptr, self._query_address, _QUERY_SIZE)
+        address = request.payload_ptr
+        chunk = self._query_views.get(address)
+        if chunk is None:
+            chunk = _chunk_view(self._query_views, address, _QUERY_SIZE)
+        o, d, cone = ray
+        _PACK_QUERY(
+            chunk, 0, request_id, human_id, o[0], o[1], o[2], d[0], d[1], d[2], cone, kind, _SCHEMA, 0
+        )
         return getattr(request, "__assume_init")().send()
 
-    def _wait(self, pending: Any, request_id: int, deadline: float, timeout: float) -> Answer:
+    def _wait(self, pending: Any, request_id: int, timeout: float) -> Answer:
+        # The clock is read only once an answer is not in at once (most are
+        # in by the time notify() returns): the timeout counts from there.
+        deadline = 0.0
         while True:
             try:
                 response = pending.receive()
@@ -355,14 +392,20 @@ class ReferenceClient(Endpoint):
             except Exception as e:
                 raise wrap("receiving an answer", e) from e
             if response is not None:
-                raw = ctypes.string_at(response.payload_ptr, _ANSWER_SIZE)
+                address = response.payload_ptr
+                chunk = self._answer_views.get(address)
+                if chunk is None:
+                    chunk = _chunk_view(self._answer_views, address, _ANSWER_SIZE)
+                values = _UNPACK_ANSWER(chunk)
                 response.delete()
-                answer = Answer.from_bytes(raw)
+                answer = _answer(values)
                 if answer.request_id != request_id:
                     raise WrongAnswer(
                         f"the answer echoed request {answer.request_id}, expected {request_id}"
                     )
                 return answer
+            if not deadline:
+                deadline = time.monotonic() + timeout
             left = deadline - time.monotonic()
             if left <= 0:
                 # A matcher that died leaves its server registered until
