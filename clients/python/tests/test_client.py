@@ -83,3 +83,21 @@ def test_the_query_struct_packs_as_the_wire_type() -> None:
     assert (q.request_id, q.human_object_id) == (11, 12)
     assert list(q.ray_origin) == [1.0, 2.0, 3.0] and list(q.ray_direction) == [4.0, 5.0, 6.0]
     assert (q.cone_half_angle, q.kind, q.schema_version, q.reserved) == (0.25, 3, 7, 8)
+
+
+def test_the_queries_without_a_ray_pack_as_their_ctypes_struct() -> None:
+    from vref_client import client
+
+    for kind, rest in [
+        ("human_object", client._HUMAN_OBJECT_REST),
+        ("latest_gesture", client._LATEST_GESTURE_REST),
+    ]:
+        q = wire.ReferenceQuery(
+            request_id=5,
+            human_object_id=9,
+            kind=wire.QUERY_KINDS[kind],
+            schema_version=wire.SCHEMA_VERSION,
+        )
+        packed = wire.ReferenceQuery()
+        client._PACK_QUERY(packed, 0, 5, 9, rest)
+        assert bytes(packed) == bytes(q), kind

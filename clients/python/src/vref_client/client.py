@@ -32,9 +32,9 @@ _ANSWER_SIZE = ctypes.sizeof(wire.ReferenceAnswer)
 _QUERY_SIZE = ctypes.sizeof(wire.ReferenceQuery)
 _POLL = iox2.Duration.from_secs_f64(POLL_S)
 _INF = float("inf")
-_Ray = tuple[tuple[float, float, float], tuple[float, float, float], float]
 _HUMAN_OBJECT = wire.QUERY_KINDS["human_object"]
 _LATEST_GESTURE = wire.QUERY_KINDS["latest_gesture"]
+_RAY = wire.QUERY_KINDS["ray"]
 
 
 class Alternative(NamedTuple):
@@ -48,12 +48,17 @@ class Alternative(NamedTuple):
 #: the wire type has none); tests/test_client.py checks it against the
 #: ctypes structure, which tests/test_layout.py checks against the layout.
 ANSWER_STRUCT = struct.Struct("<9Q3f3ff3I" + "QfI" * wire.MAX_ALTERNATIVES + "II")
-#: ``ReferenceQuery`` likewise; tests/test_client.py checks it too.
+#: ``ReferenceQuery`` likewise; tests/test_client.py checks it too. A
+#: query is packed as its two ids and the bytes of the rest (``QUERY_REST``:
+#: ray, cone, kind, schema version, reserved), which are constants for the
+#: queries without a ray.
 QUERY_STRUCT = struct.Struct("<2Q3f3ffIII")
-_PACK_QUERY = QUERY_STRUCT.pack_into
+QUERY_REST = struct.Struct("<3f3ffIII")
+_PACK_QUERY = struct.Struct(f"<2Q{QUERY_REST.size}s").pack_into
 _UNPACK_ANSWER = ANSWER_STRUCT.unpack_from
 _SCHEMA = wire.SCHEMA_VERSION
-_NO_RAY = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 0.0)
+_HUMAN_OBJECT_REST = QUERY_REST.pack(0, 0, 0, 0, 0, 0, 0, _HUMAN_OBJECT, _SCHEMA, 0)
+_LATEST_GESTURE_REST = QUERY_REST.pack(0, 0, 0, 0, 0, 0, 0, _LATEST_GESTURE, _SCHEMA, 0)
 #: Chunk views kept per direction before the cache starts over: iceoryx2
 #: reuses a fixed pool of chunks, so a few dozen addresses recur; only a
 #: matcher restarted many times makes new ones.
@@ -246,7 +251,7 @@ class ReferenceClient(Endpoint):
         loan = getattr(self._client, "__loan_uninit", None)
         if loan is not None and hasattr(iox2.RequestMutUninit, "__assume_init"):
             self._loan = loan
-            self._send: Callable[[int, int, int, _Ray], Any] = self._send_direct
+            self._send: Callable[[int, int, bytes], Any] = self._send_direct
         else:
             self._send = self._send_public
 
@@ -257,7 +262,7 @@ class ReferenceClient(Endpoint):
         # Plain ints and floats pass without a call; anything else is checked.
         human = id if type(id) is int and 0 <= id <= U64_MAX else check_u64("id", id)
         wait = timeout if type(timeout) is float and 0 < timeout < _INF else check_timeout(timeout)
-        return self._ask(_HUMAN_OBJECT, human, None, wait)
+        return self._ask(human, _HUMAN_OBJECT_REST, wait)
 
     def by_ray(
         self,
@@ -270,14 +275,14 @@ class ReferenceClient(Endpoint):
         ``direction`` need not be unit length) point at? Objects within
         ``cone_half_angle`` radians of it are candidates (default 0.1)."""
         cone = DEFAULT_CONE if cone_half_angle is None else cone_half_angle
-        ray = ray_parts(origin, direction, cone)
+        (ox, oy, oz), (dx, dy, dz), cone = ray_parts(origin, direction, cone)
         wait = check_timeout(timeout)
-        return self._ask(wire.QUERY_KINDS["ray"], 0, ray, wait)
+        return self._ask(0, QUERY_REST.pack(ox, oy, oz, dx, dy, dz, cone, _RAY, _SCHEMA, 0), wait)
 
     def latest_gesture(self, timeout: float = 1.0) -> Answer:
         """Which robot object does the latest pointing gesture point at?"""
         wait = timeout if type(timeout) is float and 0 < timeout < _INF else check_timeout(timeout)
-        return self._ask(_LATEST_GESTURE, 0, None, wait)
+        return self._ask(0, _LATEST_GESTURE_REST, wait)
 
     # -- the matcher -----------------------------------------------------
 
@@ -319,13 +324,9 @@ class ReferenceClient(Endpoint):
             f"({self._c.where()}): start vref-matcher with the same [ipc] settings"
         )
 
-    def _ask(
-        self,
-        kind: int,
-        human_id: int,
-        ray: _Ray | None,
-        timeout: float,
-    ) -> Answer:
+    def _ask(self, human_id: int, rest: bytes, timeout: float) -> Answer:
+        """Sends the query of ``human_id`` and the ``QUERY_REST`` bytes
+        ``rest``, and waits for its answer."""
         # The query path is kept short: every Python step costs more than the
         # iceoryx2 round trip it wraps, the more so on a busy machine.
         if self._conn is None:
@@ -333,7 +334,7 @@ class ReferenceClient(Endpoint):
         request_id = self._next_request
         self._next_request = request_id + 1
         try:
-            pending = self._send(request_id, kind, human_id, _NO_RAY if ray is None else ray)
+            pending = self._send(request_id, human_id, rest)
         except Exception as e:
             raise wrap("sending a reference query", e) from e
         try:
@@ -347,18 +348,12 @@ class ReferenceClient(Endpoint):
         finally:
             pending.delete()
 
-    def _send_public(self, request_id: int, kind: int, human_id: int, ray: _Ray) -> Any:
+    def _send_public(self, request_id: int, human_id: int, rest: bytes) -> Any:
         """Loans a request, copies the query in, sends it (iceoryx2's API)."""
-        q = self._query
-        q.request_id = request_id
-        q.human_object_id = human_id
-        q.ray_origin[:] = ray[0]
-        q.ray_direction[:] = ray[1]
-        q.cone_half_angle = ray[2]
-        q.kind = kind
-        return self._client.send_copy(q)
+        _PACK_QUERY(self._query, 0, request_id, human_id, rest)
+        return self._client.send_copy(self._query)
 
-    def _send_direct(self, request_id: int, kind: int, human_id: int, ray: _Ray) -> Any:
+    def _send_direct(self, request_id: int, human_id: int, rest: bytes) -> Any:
         """``_send_public`` without the Python wrapper's checks, through the
         two native calls it makes (iceoryx2 0.10.0, pinned), the query packed
         straight into the loaned chunk; the checks it skips hold by
@@ -368,10 +363,7 @@ class ReferenceClient(Endpoint):
         chunk = self._query_views.get(address)
         if chunk is None:
             chunk = _chunk_view(self._query_views, address, _QUERY_SIZE)
-        o, d, cone = ray
-        _PACK_QUERY(
-            chunk, 0, request_id, human_id, o[0], o[1], o[2], d[0], d[1], d[2], cone, kind, _SCHEMA, 0
-        )
+        _PACK_QUERY(chunk, 0, request_id, human_id, rest)
         return getattr(request, "__assume_init")().send()
 
     def _wait(self, pending: Any, request_id: int, timeout: float) -> Answer:
