@@ -151,6 +151,11 @@ fn bad_arguments_exit_2_with_a_reason() {
     let dir = tempfile::tempdir().unwrap();
     let data = write(dir.path(), "tri.jsonl", &format!("{SCENE}\n"));
     let empty = write(dir.path(), "empty.jsonl", "\n");
+    // Paths of this test's own: "/nonexistent" is a real, empty folder on
+    // some machines (a system user's home).
+    let bop_missing = format!("bop:{}", dir.path().join("missing").display());
+    std::fs::create_dir(dir.path().join("no-scenes")).unwrap();
+    let bop_empty = format!("bop:{}", dir.path().join("no-scenes").display());
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
             vec!["eval", "--dataset", &data, "--method", "rwm"],
@@ -172,8 +177,9 @@ fn bad_arguments_exit_2_with_a_reason() {
             vec!["bench", "remote", "--objects", "2", "--duration", "1s"],
             "lets both views see at least 3 objects",
         ),
+        (vec!["demo", "--source", &bop_missing], &bop_missing[4..]),
         (
-            vec!["demo", "--source", "bop:/nonexistent"],
+            vec!["demo", "--source", &bop_empty],
             "no scene folders found",
         ),
     ];
