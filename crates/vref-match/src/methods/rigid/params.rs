@@ -142,7 +142,7 @@ impl Default for RigidParams {
             stated_errors: true,
             depth_error: 0.065,
             lateral_factor: 0.2,
-            noise_prior: 3.0,
+            noise_prior: 4.5,
             tail: 6.0,
             noise_rounds: 1,
             unmatched_cost: 4.5,
