@@ -75,11 +75,11 @@ def test_unknown_status_reads_as_bad_request_and_counts_are_bounded() -> None:
 
 
 def test_the_query_struct_packs_as_the_wire_type() -> None:
-    from vref_client.client import QUERY_STRUCT
+    from vref_client.client import _PACK_QUERY, QUERY_REST
 
     q = wire.ReferenceQuery()
-    assert QUERY_STRUCT.size == ctypes.sizeof(q)
-    QUERY_STRUCT.pack_into(q, 0, 11, 12, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 0.25, 3, 7, 8)
+    assert 16 + QUERY_REST.size == ctypes.sizeof(q)
+    _PACK_QUERY(q, 0, 11, 12, QUERY_REST.pack(1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 0.25, 3, 7, 8))
     assert (q.request_id, q.human_object_id) == (11, 12)
     assert list(q.ray_origin) == [1.0, 2.0, 3.0] and list(q.ray_direction) == [4.0, 5.0, 6.0]
     assert (q.cone_half_angle, q.kind, q.schema_version, q.reserved) == (0.25, 3, 7, 8)

@@ -72,6 +72,9 @@ def test_the_bench_takes_bare_seconds() -> None:
     assert bench.duration_argument("10") == 10.0
     assert bench.duration_argument("0.5") == 0.5
     assert bench.duration_argument("250ms") == 0.25
+    assert parse_duration("10", bare_unit="s") == 10.0
+    with pytest.raises(ValueError, match="no unit"):
+        parse_duration("10")
 
 
 def test_the_wake_cost_times_both_steps() -> None:

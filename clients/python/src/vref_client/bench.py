@@ -20,7 +20,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import re
 import resource
 import shutil
 import subprocess
@@ -42,7 +41,6 @@ from .services import Connection, IpcSettings
 SERVICES = ("vref-matcher", "vref-perception-feed", "vref-gesture-feed")
 READY_S = 30.0
 QUERY_TIMEOUT_S = 2.0
-_BARE_NUMBER = re.compile(r"^\s*[0-9]*\.?[0-9]+\s*$")
 
 
 def duration_argument(text: str) -> float:
@@ -51,7 +49,7 @@ def duration_argument(text: str) -> float:
     (``--duration 10``, the spelling issue 16 gives), unlike vref's own
     flags: this bench has no other unit a plain number could mean."""
     try:
-        return parse_duration(text + "s" if _BARE_NUMBER.match(text) else text)
+        return parse_duration(text, bare_unit="s")
     except ValueError as e:
         raise argparse.ArgumentTypeError(str(e)) from e
 

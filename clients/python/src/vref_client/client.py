@@ -48,11 +48,10 @@ class Alternative(NamedTuple):
 #: the wire type has none); tests/test_client.py checks it against the
 #: ctypes structure, which tests/test_layout.py checks against the layout.
 ANSWER_STRUCT = struct.Struct("<9Q3f3ff3I" + "QfI" * wire.MAX_ALTERNATIVES + "II")
-#: ``ReferenceQuery`` likewise; tests/test_client.py checks it too. A
-#: query is packed as its two ids and the bytes of the rest (``QUERY_REST``:
-#: ray, cone, kind, schema version, reserved), which are constants for the
-#: queries without a ray.
-QUERY_STRUCT = struct.Struct("<2Q3f3ffIII")
+#: ``ReferenceQuery`` is packed as its two ids and the bytes of the rest
+#: (``QUERY_REST``: ray, cone, kind, schema version, reserved), which are
+#: constants for the queries without a ray; tests/test_client.py checks
+#: both against the ctypes structure.
 QUERY_REST = struct.Struct("<3f3ffIII")
 _PACK_QUERY = struct.Struct(f"<2Q{QUERY_REST.size}s").pack_into
 _UNPACK_ANSWER = ANSWER_STRUCT.unpack_from

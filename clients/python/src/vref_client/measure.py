@@ -35,15 +35,17 @@ _DURATION = re.compile(r"^\s*([0-9]*\.?[0-9]+)\s*(ms|s|min|m|h)?\s*$")
 _UNIT_S = {"ms": 0.001, "s": 1.0, "m": 60.0, "min": 60.0, "h": 3600.0}
 
 
-def parse_duration(text: str) -> float:
+def parse_duration(text: str, bare_unit: str | None = None) -> float:
     """Seconds of ``10s``, ``500ms``, ``2m``, ``1h`` (decimals allowed), as
-    vref_measure::parse_duration; ValueError naming the problem otherwise
-    (a bare number has no unit and is refused)."""
+    vref_measure::parse_duration; ValueError naming the problem otherwise.
+    A bare number is refused unless ``bare_unit`` (``"s"``, ...) gives it a
+    unit."""
     match = _DURATION.match(text)
     if match is None:
         raise ValueError(f"`{text}` is not a duration (examples: 10s, 500ms, 2m)")
     number, unit = match.groups()
     given = text.strip()
+    unit = unit or bare_unit
     if unit is None:
         raise ValueError(f"`{given}` has no unit: write e.g. {given}s or {given}ms")
     seconds = float(number) * _UNIT_S[unit]
