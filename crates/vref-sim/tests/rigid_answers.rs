@@ -9,7 +9,7 @@
 //! seed with `DIAG_PERSEED=1`; external lines 1-20; BOP scenes 0-5),
 //! reporting files with `DIAG_REPORT=1`; unrelated views of each (seed 11
 //! for training clouds, 12 for reporting); `DIAG_ONLY=real|null`;
-//! `DIAG_NOGATE=1` turns the significance gate off (`false_alarms = 0`).
+//! `DIAG_NOGATE=1` turns the coincidence rule off (`chance_rule = false`).
 //! `diag_time` times `rigid` at 32 and 64 objects as `vref bench solver`.
 use std::io::Write;
 use vref_match::{Evaluation, Method, Params};
@@ -42,7 +42,7 @@ fn dump(name: &str, pairs: &[ScenePair], params: &Params) {
 fn diag() {
     let mut params = Params::default();
     if std::env::var("DIAG_NOGATE").is_ok() {
-        params.rigid.false_alarms = 0.0;
+        params.rigid.chance_rule = false;
     }
     let report = std::env::var("DIAG_REPORT").is_ok();
     let perseed = std::env::var("DIAG_PERSEED").is_ok();

@@ -12,8 +12,33 @@
 
 use nalgebra::{Point3, Vector3};
 
+use super::RigidParams;
 use super::search::SplitMix;
 use crate::Problem;
+
+/// The significance counted for a motion of under four pairs, which has
+/// none (three pairs fix any motion): as if chance explained it
+/// ten thousand times over.
+const UNMEASURED_SIGNIFICANCE: f64 = -4.0;
+
+/// How strongly a motion stands against chance: its significance (`-log10`
+/// of its false alarms, `significance.rs`), plus `evidence_margin` times its
+/// score margin over sampled chance ([`margin`]; infinite in a settled
+/// scene), plus `evidence_share` times the share of the smaller view it
+/// pairs. A weighted sum, since on the training files each of the three
+/// alone passes unrelated views that real scenes with few objects or wide
+/// depth error resemble, and their sum separates them better than either
+/// test or both together (docs/method.md, "Coincidence").
+pub(super) fn evidence(
+    significance: Option<f64>,
+    margin: f64,
+    share: f64,
+    rp: &RigidParams,
+) -> f64 {
+    significance.unwrap_or(UNMEASURED_SIGNIFICANCE)
+        + rp.evidence_margin * margin
+        + rp.evidence_share * share
+}
 
 /// `problem` with the human objects' coordinates along the two main axes
 /// of their cloud (the plane a table top or floor spans) shuffled across
@@ -89,7 +114,7 @@ pub(super) fn margin(chance: &[f64], best: f64, tests: usize) -> Option<f64> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-    use super::margin;
+    use super::{RigidParams, evidence, margin};
 
     /// A hand-computed margin: mean 10, spread 2 (sample), 100 tests.
     #[test]
@@ -99,6 +124,20 @@ mod tests {
         let expected = (20.0 - 10.0) / spread - (2.0 * 100f64.ln()).sqrt();
         assert!((margin(&chance, 20.0, 100).unwrap() - expected).abs() < 1e-12);
         assert_eq!(margin(&[3.0], 20.0, 100), None);
+    }
+
+    /// The evidence is the weighted sum, an unmeasured significance counts
+    /// -4, and a settled scene (infinite margin) is never taken as chance.
+    #[test]
+    fn the_evidence_of_hand_computed_cases() {
+        let rp = RigidParams {
+            evidence_margin: 4.0,
+            evidence_share: 12.0,
+            ..RigidParams::default()
+        };
+        assert!((evidence(Some(-1.5), 0.5, 0.75, &rp) - (-1.5 + 2.0 + 9.0)).abs() < 1e-12);
+        assert!((evidence(None, -1.0, 0.5, &rp) - (-4.0 - 4.0 + 6.0)).abs() < 1e-12);
+        assert_eq!(evidence(Some(-9.0), f64::INFINITY, 0.0, &rp), f64::INFINITY);
     }
 
     /// More tests demand more of the best.

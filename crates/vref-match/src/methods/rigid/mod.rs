@@ -163,15 +163,14 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         assignment[i] = Some(j);
         confidence[i] = raw;
     }
-    // A motion is taken as real when either test says chance does not
-    // explain it: at most `false_alarms` expected false alarms for its pair
-    // count (`significance.rs`), or a score margin over sampled chance
-    // scores of at least `margin_floor` (`coincidence.rs`; a settled scene
-    // has an infinite one). Each alone lets through more unrelated views at
-    // the same loss on real ones (docs/method.md, "Coincidence").
-    let significant = rp.false_alarms <= 0.0
-        || significance.is_some_and(|s| s >= -rp.false_alarms.log10())
-        || margin >= rp.margin_floor;
+    // A motion is taken as chance when its evidence against chance (its
+    // significance, its margin and how much of the scene it pairs, each of
+    // which alone lets through unrelated views that real ones resemble) is
+    // low: docs/method.md, "Coincidence".
+    let paired = assignment.iter().filter(|a| a.is_some()).count();
+    let share = paired as f64 / n.min(m).max(1) as f64;
+    let significant = !rp.chance_rule
+        || coincidence::evidence(significance, margin, share, rp) >= rp.evidence_floor;
     for (c, a) in confidence.iter_mut().zip(&assignment) {
         *c = rp.calibration.probability(*c, a.is_none(), margin);
         // A partner resting on a motion that chance explains as well is

@@ -108,15 +108,19 @@ pub struct RigidParams {
     /// 64) whose cheapest pairs under the best motion measure the chance
     /// rate of the significance test (`significance.rs`); 0: not measured.
     pub chance_rows: usize,
-    /// Expected false alarms a motion may have and still be taken as
-    /// real. A motion with more (or that explains under four pairs) and
-    /// whose score margin over chance is below `margin_floor` is taken as
-    /// chance: its partners get at most `chance_cap` as confidence, so
-    /// that they are not `ok`. 0: every motion is taken as real.
-    pub false_alarms: f64,
-    /// The score margin over chance (`chance_samples`) that takes a motion
-    /// as real whatever its false alarms.
-    pub margin_floor: f64,
+    /// Whether a motion can be taken as chance: when its evidence
+    /// (`coincidence::evidence`: its significance, plus `evidence_margin`
+    /// times its score margin over chance, plus `evidence_share` times the
+    /// share of the smaller view it pairs) is below `evidence_floor`, its
+    /// partners get at most `chance_cap` as confidence, so that they are
+    /// not `ok`. Off: every motion is taken as real.
+    pub chance_rule: bool,
+    /// Weight of the score margin over chance in the evidence.
+    pub evidence_margin: f64,
+    /// Weight of the share of the smaller view paired in the evidence.
+    pub evidence_share: f64,
+    /// Evidence below which a motion is taken as chance.
+    pub evidence_floor: f64,
     /// The confidence a partner of a motion chance explains is capped at
     /// (below the matcher's ambiguity threshold, 0.5).
     pub chance_cap: f64,
@@ -160,8 +164,10 @@ impl Default for RigidParams {
             chance_samples: 32,
             clipper_seed_pairs: 0,
             chance_rows: 512,
-            false_alarms: 1000.0,
-            margin_floor: 0.25,
+            chance_rule: true,
+            evidence_margin: 4.0,
+            evidence_share: 12.0,
+            evidence_floor: 6.25,
             chance_cap: 0.45,
 
             seed: 0x5eed,
@@ -228,19 +234,18 @@ impl RigidParams {
                 expected: "zero or positive and finite",
             });
         }
-        if !(self.false_alarms.is_finite() && self.false_alarms >= 0.0) {
-            return Err(MatchError::BadParameter {
-                name: "rigid.false_alarms",
-                value: self.false_alarms,
-                expected: "zero or positive and finite",
-            });
-        }
-        if self.margin_floor.is_nan() {
-            return Err(MatchError::BadParameter {
-                name: "rigid.margin_floor",
-                value: self.margin_floor,
-                expected: "a number",
-            });
+        for (name, value) in [
+            ("rigid.evidence_margin", self.evidence_margin),
+            ("rigid.evidence_share", self.evidence_share),
+            ("rigid.evidence_floor", self.evidence_floor),
+        ] {
+            if !value.is_finite() {
+                return Err(MatchError::BadParameter {
+                    name,
+                    value,
+                    expected: "finite",
+                });
+            }
         }
         if !(0.0..=1.0).contains(&self.chance_cap) {
             return Err(MatchError::BadParameter {
