@@ -15,8 +15,10 @@ training file's ECE and the share of `ok` answers (a partner at confidence
 0.5 or more) among the unrelated views made as the reporting ones are (the
 first seed of each sim preset, the external and BOP training halves, the
 clouds), and prints the rules with the fewest `ok` answers among those that
-keep every real file's ECE at most MAX_ECE (0.045: the issue's 0.05 less a
-margin for held-out data).
+raise no real training file's ECE by more than MAX_RISE (0.005) and keep
+each at most MAX_ECE (default 1: not a constraint). A budget of MAX_ECE =
+0.045 instead of the rise was tried and did not carry over to the
+reporting files (docs/method.md, "Coincidence").
 
     python3 tools/coincidence-gate.py DIR
 """
@@ -28,7 +30,8 @@ import os
 import sys
 
 CAP = float(os.environ.get("CAP", "0.45"))
-MAX_ECE = float(os.environ.get("MAX_ECE", "0.045"))
+MAX_ECE = float(os.environ.get("MAX_ECE", "1"))
+MAX_RISE = float(os.environ.get("MAX_RISE", "0.005"))
 UNMEASURED = -4.0
 
 
@@ -49,6 +52,8 @@ def scenes(path):
 
 def evidence(scene, a, b):
     sig, margin, share, _ = scene
+    if margin == math.inf:  # a settled scene is never chance
+        return math.inf
     return sig + a * margin + b * share
 
 
@@ -84,14 +89,15 @@ def main():
     if not real or not null:
         sys.exit(f"coincidence-gate.py: no answer files in {d}")
     answers = sum(len(s[3]) for v in null.values() for s in v)
+    base = {k: ece(v, [False] * len(v)) for k, v in real.items()}
     results = []
     for a in [0, 1, 2, 3, 4, 6]:
         for b in [0, 2, 4, 6, 8, 12, 16]:
             for c in [x / 4 for x in range(-24, 60)]:
-                worst = max(
-                    (ece(v, [evidence(s, a, b) < c for s in v]), k) for k, v in real.items()
-                )
-                if worst[0] > MAX_ECE:
+                eces = {k: ece(v, [evidence(s, a, b) < c for s in v]) for k, v in real.items()}
+                worst = max((e, k) for k, e in eces.items())
+                rise = max(e - base[k] for k, e in eces.items())
+                if worst[0] > MAX_ECE or rise > MAX_RISE:
                     continue
                 ok = sum(
                     1
@@ -101,11 +107,14 @@ def main():
                     for conf, _, matched in s[3]
                     if matched and conf >= 0.5
                 )
-                results.append((ok / answers, a, b, c, worst))
+                results.append((ok / answers, a, b, c, worst, rise))
     off = sum(1 for v in null.values() for s in v for conf, _, m in s[3] if m and conf >= 0.5)
     print(f"rule off: {100 * off / answers:.2f}% of {answers} unrelated answers ok")
-    for share, a, b, c, (worst, name) in sorted(results)[:10]:
-        print(f"a {a} b {b} c {c}: ok {100 * share:.2f}%, largest ECE {worst:.4f} ({name})")
+    for share, a, b, c, (worst, name), rise in sorted(results)[:10]:
+        print(
+            f"a {a} b {b} c {c}: ok {100 * share:.2f}%, largest ECE {worst:.4f} ({name}),"
+            f" largest rise {rise:.4f}"
+        )
 
 
 if __name__ == "__main__":

@@ -35,6 +35,11 @@ pub(super) fn evidence(
     share: f64,
     rp: &RigidParams,
 ) -> f64 {
+    // Chance does not settle a scene, whatever the margin's weight (0 x
+    // infinity would be no number).
+    if margin == f64::INFINITY {
+        return f64::INFINITY;
+    }
     significance.unwrap_or(UNMEASURED_SIGNIFICANCE)
         + rp.evidence_margin * margin
         + rp.evidence_share * share
@@ -138,6 +143,15 @@ mod tests {
         assert!((evidence(Some(-1.5), 0.5, 0.75, &rp) - (-1.5 + 2.0 + 9.0)).abs() < 1e-12);
         assert!((evidence(None, -1.0, 0.5, &rp) - (-4.0 - 4.0 + 6.0)).abs() < 1e-12);
         assert_eq!(evidence(Some(-9.0), f64::INFINITY, 0.0, &rp), f64::INFINITY);
+        let unweighted = RigidParams {
+            evidence_margin: 0.0,
+            ..rp
+        };
+        assert_eq!(
+            evidence(None, f64::INFINITY, 0.0, &unweighted),
+            f64::INFINITY
+        );
+        assert!((evidence(Some(-1.0), -3.0, 0.5, &unweighted) - 5.0).abs() < 1e-12);
     }
 
     /// More tests demand more of the best.

@@ -165,9 +165,9 @@ impl Default for RigidParams {
             clipper_seed_pairs: 0,
             chance_rows: 512,
             chance_rule: true,
-            evidence_margin: 4.0,
-            evidence_share: 12.0,
-            evidence_floor: 6.25,
+            evidence_margin: 0.0,
+            evidence_share: 8.0,
+            evidence_floor: 2.0,
             chance_cap: 0.45,
 
             seed: 0x5eed,
