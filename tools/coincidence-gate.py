@@ -29,6 +29,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ece import ece  # noqa: E402
+
 CAP = float(os.environ.get("CAP", "0.45"))
 MAX_ECE = float(os.environ.get("MAX_ECE", "1"))
 MAX_RISE = float(os.environ.get("MAX_RISE", "0.005"))
@@ -57,18 +60,14 @@ def evidence(scene, a, b):
     return sig + a * margin + b * share
 
 
-def ece(scene_list, fires):
-    count, conf, right, total = [0] * 10, [0.0] * 10, [0] * 10, 0
-    for (_, _, _, rows), fire in zip(scene_list, fires):
-        for c, ok, matched in rows:
-            if fire and matched:
-                c = min(c, CAP)
-            k = min(int(c * 10), 9)
-            count[k] += 1
-            conf[k] += c
-            right[k] += ok
-            total += 1
-    return sum(abs(conf[k] - right[k]) / total for k in range(10) if count[k])
+def capped_ece(scene_list, fires):
+    """ECE of the answers with the partners of each scene that `fires`
+    capped at CAP."""
+    return ece(
+        (min(c, CAP) if fire and matched else c, ok)
+        for (_, _, _, rows), fire in zip(scene_list, fires)
+        for c, ok, matched in rows
+    )
 
 
 def reported_like(name):
@@ -89,12 +88,12 @@ def main():
     if not real or not null:
         sys.exit(f"coincidence-gate.py: no answer files in {d}")
     answers = sum(len(s[3]) for v in null.values() for s in v)
-    base = {k: ece(v, [False] * len(v)) for k, v in real.items()}
+    base = {k: capped_ece(v, [False] * len(v)) for k, v in real.items()}
     results = []
     for a in [0, 1, 2, 3, 4, 6]:
         for b in [0, 2, 4, 6, 8, 12, 16]:
             for c in [x / 4 for x in range(-24, 60)]:
-                eces = {k: ece(v, [evidence(s, a, b) < c for s in v]) for k, v in real.items()}
+                eces = {k: capped_ece(v, [evidence(s, a, b) < c for s in v]) for k, v in real.items()}
                 worst = max((e, k) for k, e in eces.items())
                 rise = max(e - base[k] for k, e in eces.items())
                 if worst[0] > MAX_ECE or rise > MAX_RISE:

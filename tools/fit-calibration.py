@@ -30,6 +30,9 @@ import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ece import ece  # noqa: E402
+
 EPS = 1e-6
 CAP = 3.0
 
@@ -94,18 +97,6 @@ def fit(rows, weights, iterations=60):
 def probability(w, row):
     z = sum(wi * xi for wi, xi in zip(w, features(row)))
     return 1 / (1 + math.exp(-max(min(z, 40), -40)))
-
-
-def ece(pairs, bins=10):
-    total = len(pairs)
-    out = 0.0
-    for b in range(bins):
-        inside = [(c, ok) for c, ok in pairs if min(int(c * bins), bins - 1) == b]
-        if inside:
-            conf = sum(c for c, _ in inside) / len(inside)
-            acc = sum(1 for _, ok in inside if ok) / len(inside)
-            out += len(inside) / total * abs(conf - acc)
-    return out
 
 
 def main():
