@@ -13,10 +13,11 @@
 # The BOP files are taken from ${VREF_BOP_DIR:-../data} (bop-table.jsonl,
 # bop-floor.jsonl: the perception front end's import of the rendered
 # scenes) when they are there.
-# Needs `cargo build --release -p vref --examples` first.
+# Needs `cargo build --release -p vref --bins --examples` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 vref=target/release/vref
+[ -x "$vref" ] || { echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref --bins --examples" >&2; exit 2; }
 dir=${VREF_CARRY_DIR:-target/carry}
 external=${VREF_EXTERNAL_DIR:-../shared/data/external}
 bop=${VREF_BOP_DIR:-../data}

@@ -8,11 +8,12 @@
 #   docs/results/method-bop.json       rendered scenes 000006-000011, table (0.01), floor (0.1)
 #   docs/results/coincidence.json      rigid on unrelated views made from reporting files
 # beta is each family's spatial bandwidth (external PROVENANCE.md); rigid
-# does not use it. Needs `cargo build --release -p vref --examples` and
+# does not use it. Needs `cargo build --release -p vref --bins --examples` and
 # `bash tools/carryover-data.sh` first. Only reporting files are read.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 vref=target/release/vref
+[ -x "$vref" ] || { echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref --bins --examples" >&2; exit 2; }
 dir=${VREF_CARRY_DIR:-target/carry}
 out=${VREF_RESULTS_DIR:-docs/results}
 mkdir -p "$out"

@@ -8,12 +8,13 @@
 #
 #   bash tools/rigid-train.sh 'noise_prior = 4.5\nunmatched_cost = 5.0'
 #
-# Needs `cargo build --release -p vref --examples` and
+# Needs `cargo build --release -p vref --bins --examples` and
 # `bash tools/carryover-data.sh` first (files in ${VREF_CARRY_DIR:-target/carry};
 # the BOP families are left out when their training files are not there).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 vref=target/release/vref
+[ -x "$vref" ] || { echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref --bins --examples" >&2; exit 2; }
 dir=${VREF_CARRY_DIR:-target/carry}
 settings=${1:-}
 config=$(mktemp)
