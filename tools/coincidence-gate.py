@@ -7,10 +7,11 @@
 
 (real training sets as NAME.jsonl, one per sim seed; unrelated views as
 null-*.jsonl). A motion is taken as chance when its evidence,
-significance + a x margin + b x share (share: partners given over the
-smaller view's size; a significance not measured counts -4, a settled
-scene's margin is infinite), is below c; its partners' confidence is then
-capped at CAP (0.45). For every (a, b, c) of a grid it computes every real
+significance + a x margin + b x share + f x fit (share: partners given
+over the smaller view's size; fit: the motion's score over the largest
+possible; a significance not measured counts -4, a settled scene's margin
+is infinite), is below c; its partners' confidence is then capped at CAP
+(0.45). For every (a, b, f, c) of a grid it computes every real
 training file's ECE and the share of `ok` answers (a partner at confidence
 0.5 or more) among the unrelated views made as the reporting ones are (the
 first seed of each sim preset, the external and BOP training halves, the
@@ -24,6 +25,7 @@ reporting files (docs/method.md, "Coincidence").
 """
 import collections
 import glob
+import itertools
 import json
 import math
 import os
@@ -49,15 +51,16 @@ def scenes(path):
         share = sum(x["matched"] for x in rows) / max(1, min(r["human_objects"], r["robot_objects"]))
         sig = UNMEASURED if r["significance"] is None else r["significance"]
         margin = math.inf if r["margin"] is None else r["margin"]
-        out.append((sig, margin, share, [(x["confidence"], x["correct"], x["matched"]) for x in rows]))
+        fit = r.get("fit") or 0.0
+        out.append((sig, margin, share, fit, [(x["confidence"], x["correct"], x["matched"]) for x in rows]))
     return out
 
 
-def evidence(scene, a, b):
-    sig, margin, share, _ = scene
+def evidence(scene, a, b, f):
+    sig, margin, share, fit, _ = scene
     if margin == math.inf:  # a settled scene is never chance
         return math.inf
-    return sig + a * margin + b * share
+    return sig + a * margin + b * share + f * fit
 
 
 def capped_ece(scene_list, fires):
@@ -65,7 +68,7 @@ def capped_ece(scene_list, fires):
     capped at CAP."""
     return ece(
         (min(c, CAP) if fire and matched else c, ok)
-        for (_, _, _, rows), fire in zip(scene_list, fires)
+        for (*_, rows), fire in zip(scene_list, fires)
         for c, ok, matched in rows
     )
 
@@ -87,31 +90,30 @@ def main():
             null[name] = scenes(path)
     if not real or not null:
         sys.exit(f"coincidence-gate.py: no answer files in {d}")
-    answers = sum(len(s[3]) for v in null.values() for s in v)
+    answers = sum(len(s[-1]) for v in null.values() for s in v)
     base = {k: capped_ece(v, [False] * len(v)) for k, v in real.items()}
     results = []
-    for a in [0, 1, 2, 3, 4, 6]:
-        for b in [0, 2, 4, 6, 8, 12, 16]:
-            for c in [x / 4 for x in range(-24, 60)]:
-                eces = {k: capped_ece(v, [evidence(s, a, b) < c for s in v]) for k, v in real.items()}
-                worst = max((e, k) for k, e in eces.items())
-                rise = max(e - base[k] for k, e in eces.items())
-                if worst[0] > MAX_ECE or rise > MAX_RISE:
-                    continue
-                ok = sum(
-                    1
-                    for v in null.values()
-                    for s in v
-                    if not evidence(s, a, b) < c
-                    for conf, _, matched in s[3]
-                    if matched and conf >= 0.5
-                )
-                results.append((ok / answers, a, b, c, worst, rise))
-    off = sum(1 for v in null.values() for s in v for conf, _, m in s[3] if m and conf >= 0.5)
+    for a, b, f in itertools.product([0, 1, 2, 4], [0, 1, 2, 3, 4, 6, 8, 12], [0, 4, 6, 8, 12, 16]):
+        for c in [x / 4 for x in range(-24, 80)]:
+            eces = {k: capped_ece(v, [evidence(s, a, b, f) < c for s in v]) for k, v in real.items()}
+            worst = max((e, k) for k, e in eces.items())
+            rise = max(e - base[k] for k, e in eces.items())
+            if worst[0] > MAX_ECE or rise > MAX_RISE:
+                continue
+            ok = sum(
+                1
+                for v in null.values()
+                for s in v
+                if not evidence(s, a, b, f) < c
+                for conf, _, matched in s[-1]
+                if matched and conf >= 0.5
+            )
+            results.append((ok / answers, a, b, f, c, worst, rise))
+    off = sum(1 for v in null.values() for s in v for conf, _, m in s[-1] if m and conf >= 0.5)
     print(f"rule off: {100 * off / answers:.2f}% of {answers} unrelated answers ok")
-    for share, a, b, c, (worst, name), rise in sorted(results)[:10]:
+    for share, a, b, f, c, (worst, name), rise in sorted(results)[:10]:
         print(
-            f"a {a} b {b} c {c}: ok {100 * share:.2f}%, largest ECE {worst:.4f} ({name}),"
+            f"a {a} b {b} f {f} c {c}: ok {100 * share:.2f}%, largest ECE {worst:.4f} ({name}),"
             f" largest rise {rise:.4f}"
         )
 

@@ -39,6 +39,9 @@ pub struct RowAnswer {
     /// The method's significance of its motion against chance, where it
     /// has one (`-log10` of its false alarms).
     pub significance: Option<f64>,
+    /// The method's fit of its motion (its score over the largest
+    /// possible), where it has one.
+    pub fit: Option<f64>,
 }
 
 /// One method's result over all scenes added.
@@ -118,6 +121,7 @@ impl Evaluation {
                     robot_objects: pair.robot.len(),
                     margin: solution.margin,
                     significance: solution.significance,
+                    fit: solution.fit,
                 });
             }
             self.scores[k].push(score_scene(&human_ids, &predicted, &pair.ground_truth));

@@ -3,9 +3,10 @@
 //! wrong, so it should rarely answer `ok` (a partner with confidence at
 //! least the matcher's ambiguity threshold, 0.5).
 //!
-//! The line held: at most 6% of answers `ok` over these sets (67 of 1374,
-//! 4.9%, with the evidence rule: docs/method.md, "Coincidence"; 122, 8.9%,
-//! with the rule before it; no random cloud is answered `ok`, 0-34% of the
+//! The line held: at most 5% of answers `ok` over these sets (52 of 1374,
+//! 3.8%, with the evidence rule and its fit term: docs/method.md,
+//! "Coincidence"; 67, 4.9%, without the fit term; 122, 8.9%, with the rule
+//! of two thresholds; no random cloud is answered `ok`, 0-22% of the
 //! answers in the sets of scenes of one preset are).
 //! Issue 15's target, 1%, is not met on these sets; its test is ignored:
 //! `cargo test --release -p vref-sim --test coincidence -- --ignored`.
@@ -65,7 +66,7 @@ fn unrelated_ok() -> (usize, usize, String) {
 fn unrelated_views_are_seldom_answered_ok() {
     let (ok, answers, lines) = unrelated_ok();
     assert!(
-        ok * 100 <= 6 * answers,
+        ok * 100 <= 5 * answers,
         "{ok} of {answers} answers ok: {lines}"
     );
 }

@@ -141,6 +141,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         motion: None,
         margin: None,
         significance: None,
+        fit: None,
     }
 }
 

@@ -138,6 +138,7 @@ pub fn solve_with(
         motion: None,
         margin: None,
         significance: None,
+        fit: None,
     })
 }
 

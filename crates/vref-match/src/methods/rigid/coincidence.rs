@@ -21,28 +21,39 @@ use crate::Problem;
 /// ten thousand times over.
 const UNMEASURED_SIGNIFICANCE: f64 = -4.0;
 
-/// How strongly a motion stands against chance: its significance (`-log10`
-/// of its false alarms, `significance.rs`), plus `evidence_margin` times its
-/// score margin over sampled chance ([`margin`]; infinite in a settled
-/// scene), plus `evidence_share` times the share of the smaller view it
-/// pairs. A weighted sum, since on the training files each of the three
-/// alone passes unrelated views that real scenes with few objects or wide
-/// depth error resemble, and their sum separates them better than either
-/// test or both together (docs/method.md, "Coincidence").
-pub(super) fn evidence(
-    significance: Option<f64>,
-    margin: f64,
-    share: f64,
-    rp: &RigidParams,
-) -> f64 {
+/// What the coincidence rule weighs of the best motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Measures {
+    /// `-log10` of its false alarms (`significance.rs`); `None` for a
+    /// motion of under four pairs.
+    pub(super) significance: Option<f64>,
+    /// Its score margin over sampled chance ([`margin`]); infinite in a
+    /// settled scene.
+    pub(super) margin: f64,
+    /// The share of the smaller view it pairs.
+    pub(super) share: f64,
+    /// Its score (the greedy gain over "no partner") over the largest
+    /// possible, every object of the smaller view explained at no cost.
+    pub(super) fit: f64,
+}
+
+/// How strongly a motion stands against chance: its significance, plus
+/// `evidence_margin` times its margin, `evidence_share` times its share
+/// and `evidence_fit` times its fit ([`Measures`]). A weighted sum, since
+/// on the training files each alone passes unrelated views that real
+/// scenes with few objects or wide depth error resemble, and their sum
+/// separates them better than any test alone or all together
+/// (docs/method.md, "Coincidence").
+pub(super) fn evidence(measures: &Measures, rp: &RigidParams) -> f64 {
     // Chance does not settle a scene, whatever the margin's weight (0 x
     // infinity would be no number).
-    if margin == f64::INFINITY {
+    if measures.margin == f64::INFINITY {
         return f64::INFINITY;
     }
-    significance.unwrap_or(UNMEASURED_SIGNIFICANCE)
-        + rp.evidence_margin * margin
-        + rp.evidence_share * share
+    measures.significance.unwrap_or(UNMEASURED_SIGNIFICANCE)
+        + rp.evidence_margin * measures.margin
+        + rp.evidence_share * measures.share
+        + rp.evidence_fit * measures.fit
 }
 
 /// `problem` with the human objects' coordinates along the two main axes
@@ -119,7 +130,7 @@ pub(super) fn margin(chance: &[f64], best: f64, tests: usize) -> Option<f64> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-    use super::{RigidParams, evidence, margin};
+    use super::{Measures, RigidParams, evidence, margin};
 
     /// A hand-computed margin: mean 10, spread 2 (sample), 100 tests.
     #[test]
@@ -131,6 +142,15 @@ mod tests {
         assert_eq!(margin(&[3.0], 20.0, 100), None);
     }
 
+    fn measures(significance: Option<f64>, margin: f64, share: f64, fit: f64) -> Measures {
+        Measures {
+            significance,
+            margin,
+            share,
+            fit,
+        }
+    }
+
     /// The evidence is the weighted sum, an unmeasured significance counts
     /// -4, and a settled scene (infinite margin) is never taken as chance.
     #[test]
@@ -138,20 +158,20 @@ mod tests {
         let rp = RigidParams {
             evidence_margin: 4.0,
             evidence_share: 12.0,
+            evidence_fit: 8.0,
             ..RigidParams::default()
         };
-        assert!((evidence(Some(-1.5), 0.5, 0.75, &rp) - (-1.5 + 2.0 + 9.0)).abs() < 1e-12);
-        assert!((evidence(None, -1.0, 0.5, &rp) - (-4.0 - 4.0 + 6.0)).abs() < 1e-12);
-        assert_eq!(evidence(Some(-9.0), f64::INFINITY, 0.0, &rp), f64::INFINITY);
+        let of = |s, m, sh, f| evidence(&measures(s, m, sh, f), &rp);
+        assert!((of(Some(-1.5), 0.5, 0.75, 0.5) - (-1.5 + 2.0 + 9.0 + 4.0)).abs() < 1e-12);
+        assert!((of(None, -1.0, 0.5, 0.25) - (-4.0 - 4.0 + 6.0 + 2.0)).abs() < 1e-12);
+        assert_eq!(of(Some(-9.0), f64::INFINITY, 0.0, 0.0), f64::INFINITY);
         let unweighted = RigidParams {
             evidence_margin: 0.0,
             ..rp
         };
-        assert_eq!(
-            evidence(None, f64::INFINITY, 0.0, &unweighted),
-            f64::INFINITY
-        );
-        assert!((evidence(Some(-1.0), -3.0, 0.5, &unweighted) - 5.0).abs() < 1e-12);
+        let of = |s, m, sh, f| evidence(&measures(s, m, sh, f), &unweighted);
+        assert_eq!(of(None, f64::INFINITY, 0.0, 0.0), f64::INFINITY);
+        assert!((of(Some(-1.0), -3.0, 0.5, 0.5) - 9.0).abs() < 1e-12);
     }
 
     /// More tests demand more of the best.

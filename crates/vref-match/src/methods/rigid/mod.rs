@@ -164,13 +164,20 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         confidence[i] = raw;
     }
     // A motion is taken as chance when its evidence against chance (its
-    // significance, its margin and how much of the scene it pairs, each of
-    // which alone lets through unrelated views that real ones resemble) is
-    // low: docs/method.md, "Coincidence".
+    // significance, its margin, how much of the scene it pairs and how
+    // well, each of which alone lets through unrelated views that real
+    // ones resemble) is low: docs/method.md, "Coincidence".
     let paired = assignment.iter().filter(|a| a.is_some()).count();
-    let share = paired as f64 / n.min(m).max(1) as f64;
-    let significant = !rp.chance_rule
-        || coincidence::evidence(significance, margin, share, rp) >= rp.evidence_floor;
+    let smaller = n.min(m).max(1) as f64;
+    let measures = coincidence::Measures {
+        significance,
+        margin,
+        share: paired as f64 / smaller,
+        fit: found
+            .as_ref()
+            .map_or(0.0, |f| f.score / (rp.unmatched_cost * smaller)),
+    };
+    let significant = !rp.chance_rule || coincidence::evidence(&measures, rp) >= rp.evidence_floor;
     for (c, a) in confidence.iter_mut().zip(&assignment) {
         *c = rp.calibration.probability(*c, a.is_none(), margin);
         // A partner resting on a motion that chance explains as well is
@@ -188,6 +195,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         motion,
         margin: margin.is_finite().then_some(margin),
         significance,
+        fit: found.as_ref().map(|_| measures.fit),
     }
 }
 

@@ -110,8 +110,9 @@ pub struct RigidParams {
     pub chance_rows: usize,
     /// Whether a motion can be taken as chance: when its evidence
     /// (`coincidence::evidence`: its significance, plus `evidence_margin`
-    /// times its score margin over chance, plus `evidence_share` times the
-    /// share of the smaller view it pairs) is below `evidence_floor`, its
+    /// times its score margin over chance, `evidence_share` times the
+    /// share of the smaller view it pairs and `evidence_fit` times its
+    /// score over the largest possible) is below `evidence_floor`, its
     /// partners get at most `chance_cap` as confidence, so that they are
     /// not `ok`. Off: every motion is taken as real.
     pub chance_rule: bool,
@@ -119,6 +120,9 @@ pub struct RigidParams {
     pub evidence_margin: f64,
     /// Weight of the share of the smaller view paired in the evidence.
     pub evidence_share: f64,
+    /// Weight of the best motion's fit (its score over the largest
+    /// possible) in the evidence.
+    pub evidence_fit: f64,
     /// Evidence below which a motion is taken as chance.
     pub evidence_floor: f64,
     /// The confidence a partner of a motion chance explains is capped at
@@ -166,8 +170,9 @@ impl Default for RigidParams {
             chance_rows: 512,
             chance_rule: true,
             evidence_margin: 0.0,
-            evidence_share: 8.0,
-            evidence_floor: 2.0,
+            evidence_share: 3.0,
+            evidence_fit: 6.0,
+            evidence_floor: 3.5,
             chance_cap: 0.45,
 
             seed: 0x5eed,
@@ -237,6 +242,7 @@ impl RigidParams {
         for (name, value) in [
             ("rigid.evidence_margin", self.evidence_margin),
             ("rigid.evidence_share", self.evidence_share),
+            ("rigid.evidence_fit", self.evidence_fit),
             ("rigid.evidence_floor", self.evidence_floor),
         ] {
             if !value.is_finite() {
