@@ -79,6 +79,27 @@ def reported_like(name):
     return not sim or name.startswith(("null-Moi100", "null-Mrc100"))
 
 
+def describe(real, null):
+    """Each measure's 5th, 50th and 95th percentile among the real scenes
+    no decisive motion settled and among the unrelated views with an `ok`
+    answer (rule off)."""
+    groups = {
+        "real, unsettled": [s for v in real.values() for s in v if s[1] != math.inf],
+        "unrelated, with an ok answer": [
+            s for v in null.values() for s in v
+            if s[1] != math.inf and any(m and c >= 0.5 for c, _, m in s[-1])
+        ],
+    }
+    for name, group in groups.items():
+        cells = []
+        for k, measure in enumerate(["significance", "margin", "share", "fit"]):
+            values = sorted(s[k] for s in group)
+            if values:
+                at = [values[int(p * (len(values) - 1))] for p in (0.05, 0.5, 0.95)]
+                cells.append(f"{measure} {at[1]:.2f} ({at[0]:.2f} to {at[2]:.2f})")
+        print(f"{name} ({len(group)} scenes): " + ", ".join(cells))
+
+
 def main():
     d = sys.argv[1]
     real, null = {}, {}
@@ -109,6 +130,7 @@ def main():
                 if matched and conf >= 0.5
             )
             results.append((ok / answers, a, b, f, c, worst, rise))
+    describe(real, null)
     off = sum(1 for v in null.values() for s in v for conf, _, m in s[-1] if m and conf >= 0.5)
     print(f"rule off: {100 * off / answers:.2f}% of {answers} unrelated answers ok")
     for share, a, b, f, c, (worst, name), rise in sorted(results)[:10]:

@@ -1,5 +1,5 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-//! Writes `rigid`'s answers (`RowAnswer` JSON lines, with margin and
+//! Writes `rigid`'s answers (`RowAnswer` JSON lines, with margin, fit and
 //! significance) on the data sets of docs/method.md, for choosing the
 //! coincidence constants on the training files and reporting on the rest
 //! without the release build of `vref` (the same `Evaluation` as `vref
