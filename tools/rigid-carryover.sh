@@ -6,8 +6,9 @@
 # accuracy and precision and plus 0.01 for ECE). It also prints each set
 # against issue 15's targets (accuracy >= 0.93, precision >= 0.95,
 # ECE <= 0.05, accuracy >= best other method + 0.03) and the share of `ok`
-# answers on unrelated views (target <= 1%), which it reports but does not
-# fail on (not all are met: docs/method.md says which).
+# answers on unrelated views (target <= 1%; not all targets are met:
+# docs/method.md says which). It fails too if that share is above the
+# pinned OK_SHARE (today's 2.7% plus 0.8).
 #
 #   bash tools/carryover-data.sh && bash tools/rigid-carryover.sh
 set -euo pipefail
@@ -27,6 +28,7 @@ pins = {
     "moi-ext-report": (0.908, 0.938, 0.041), "mrc-ext-report": (0.958, 0.957, 0.032),
     "bop-table-report": (0.990, 0.990, 0.015), "bop-floor-report": (0.990, 0.990, 0.013),
 }
+OK_SHARE = 0.035
 work = sys.argv[1]
 failed = []
 for name in ["method-vrefsim.json", "method-external.json", "method-bop.json"]:
@@ -48,6 +50,8 @@ rows = [json.loads(line) for line in open(os.path.join(work, "coincidence.json")
 answers = sum(r["answers"] for r in rows)
 ok = sum(r["ok"] for r in rows)
 print(f"unrelated views: {ok} of {answers} answers ok ({100 * ok / answers:.1f}%; target <= 1%)")
+if ok > OK_SHARE * answers:
+    failed.append(f"unrelated views: {100 * ok / answers:.1f}% ok against pinned {100 * OK_SHARE:.1f}%")
 if failed:
     print("below the pinned line:\n  " + "\n  ".join(failed))
     sys.exit(1)
