@@ -16,8 +16,7 @@
 # Needs `cargo build --release -p vref --bins --examples` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-vref=target/release/vref
-[ -x "$vref" ] || { echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref --bins --examples" >&2; exit 2; }
+. tools/need-vref.sh
 dir=${VREF_CARRY_DIR:-target/carry}
 external=${VREF_EXTERNAL_DIR:-../shared/data/external}
 bop=${VREF_BOP_DIR:-../data}

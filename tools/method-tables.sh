@@ -12,8 +12,7 @@
 # `bash tools/carryover-data.sh` first. Only reporting files are read.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-vref=target/release/vref
-[ -x "$vref" ] || { echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref --bins --examples" >&2; exit 2; }
+. tools/need-vref.sh
 dir=${VREF_CARRY_DIR:-target/carry}
 out=${VREF_RESULTS_DIR:-docs/results}
 mkdir -p "$out"

@@ -13,8 +13,7 @@
 # the BOP families are left out when their training files are not there).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-vref=target/release/vref
-[ -x "$vref" ] || { echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref --bins --examples" >&2; exit 2; }
+. tools/need-vref.sh
 dir=${VREF_CARRY_DIR:-target/carry}
 settings=${1:-}
 config=$(mktemp)

@@ -19,7 +19,7 @@ use crate::{Params, Problem, Solution, hungarian_max};
 
 use costs::Costs;
 pub use params::RigidParams;
-use search::{chance_inliers, explained, rescore, score_of, search};
+use search::{chance_inliers, explained, largest_score, rescore, score_of, search};
 
 /// Score of a column a row must never take in the padded assignment.
 const FORBIDDEN: f64 = -1e12;
@@ -168,14 +168,13 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     // well, each of which alone lets through unrelated views that real
     // ones resemble) is low: docs/method.md, "Coincidence".
     let paired = assignment.iter().filter(|a| a.is_some()).count();
-    let smaller = n.min(m).max(1) as f64;
     let measures = coincidence::Measures {
         significance,
         margin,
-        share: paired as f64 / smaller,
+        share: paired as f64 / n.min(m).max(1) as f64,
         fit: found
             .as_ref()
-            .map_or(0.0, |f| f.score / (rp.unmatched_cost * smaller)),
+            .map_or(0.0, |f| f.score / largest_score(n, m, rp)),
     };
     let significant = !rp.chance_rule || coincidence::evidence(&measures, rp) >= rp.evidence_floor;
     for (c, a) in confidence.iter_mut().zip(&assignment) {

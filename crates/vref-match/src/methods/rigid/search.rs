@@ -57,7 +57,7 @@ pub(super) fn search(
     let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, 2.0 * sigma);
     // A motion that explains nearly every object nearly perfectly leaves
     // nothing for further hypotheses to find.
-    let decisive = rp.decisive_share * rp.unmatched_cost * n.min(m) as f64;
+    let decisive = rp.decisive_share * largest_score(n, m, rp);
     let decisive_after = rp.decisive_after.saturating_mul(64).div_ceil(n * m);
     // Sample edges shorter than the tolerance give poorly determined
     // rotations and are avoided, unless a sparse scene has too few samples
@@ -276,6 +276,12 @@ fn found(
         tests,
         settled: false,
     })
+}
+
+/// The largest score a motion can reach: every object of the smaller view
+/// explained at no cost, each gaining what "no partner" would cost.
+pub(super) fn largest_score(n: usize, m: usize, rp: &RigidParams) -> f64 {
+    rp.unmatched_cost * n.min(m) as f64
 }
 
 /// The search's score of `motion` (its greedy gain over "no partner").
