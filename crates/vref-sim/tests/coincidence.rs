@@ -3,10 +3,11 @@
 //! wrong, so it should rarely answer `ok` (a partner with confidence at
 //! least the matcher's ambiguity threshold, 0.5).
 //!
-//! The line held: at most 5% of answers `ok` over these sets (52 of 1374,
-//! 3.8%, with the evidence rule and its fit term: docs/method.md,
-//! "Coincidence"; 67, 4.9%, without the fit term; 122, 8.9%, with the rule
-//! of two thresholds; no random cloud is answered `ok`, 0-22% of the
+//! The line held: at most 4% of answers `ok` over these sets (40 of 1374,
+//! 2.9%, with the evidence rule whose fit is measured under the assumed
+//! noise: docs/method.md, "Coincidence"; 52, 3.8%, with the fit under the
+//! scene's own noise; 67, 4.9%, without a fit term; 122, 8.9%, with the
+//! rule of two thresholds; no random cloud is answered `ok`, 2-18% of the
 //! answers in the sets of scenes of one preset are).
 //! Issue 15's target, 1%, is not met on these sets; its test is ignored:
 //! `cargo test --release -p vref-sim --test coincidence -- --ignored`.
@@ -66,7 +67,7 @@ fn unrelated_ok() -> (usize, usize, String) {
 fn unrelated_views_are_seldom_answered_ok() {
     let (ok, answers, lines) = unrelated_ok();
     assert!(
-        ok * 100 <= 5 * answers,
+        ok * 100 <= 4 * answers,
         "{ok} of {answers} answers ok: {lines}"
     );
 }

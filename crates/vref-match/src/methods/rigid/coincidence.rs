@@ -32,8 +32,10 @@ pub(super) struct Measures {
     pub(super) margin: f64,
     /// The share of the smaller view it pairs.
     pub(super) share: f64,
-    /// Its score (the greedy gain over "no partner") over the largest
-    /// possible, every object of the smaller view explained at no cost.
+    /// Its score (the greedy gain over "no partner") under the noise
+    /// scales assumed before the scene's own were estimated, over the
+    /// largest possible, every object of the smaller view explained at no
+    /// cost.
     pub(super) fit: f64,
 }
 

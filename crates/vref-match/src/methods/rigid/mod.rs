@@ -30,6 +30,9 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     let spacing = median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
     let log_g = appearance_log_likelihood(problem, rp.appearance_temperature, rp.appearance_floor);
     let mut costs = Costs::new(problem, &log_g, spacing, rp);
+    // The scales assumed (or stated) before the scene's own noise replaces
+    // them: the coincidence rule's fit is measured under these.
+    let assumed = costs.rays.as_ref().map(|r| r.noise);
     let seeds = consistency_seed(problem, params, costs.typical);
     let mut found = search(&costs, costs.typical, rp, &seeds);
     // The noise this scene shows under its best motion replaces the
@@ -172,9 +175,9 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         significance,
         margin,
         share: paired as f64 / n.min(m).max(1) as f64,
-        fit: found
+        fit: motion
             .as_ref()
-            .map_or(0.0, |f| f.score / largest_score(n, m, rp)),
+            .map_or(0.0, |t| assumed_fit(&costs, assumed, rp, t)),
     };
     let significant = !rp.chance_rule || coincidence::evidence(&measures, rp) >= rp.evidence_floor;
     for (c, a) in confidence.iter_mut().zip(&assignment) {
@@ -194,7 +197,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         motion,
         margin: margin.is_finite().then_some(margin),
         significance,
-        fit: found.as_ref().map(|_| measures.fit),
+        fit: motion.as_ref().map(|_| measures.fit),
     }
 }
 
@@ -216,6 +219,24 @@ fn consistency_seed(problem: &Problem, params: &Params, typical: f64) -> Vec<Rig
     fit_assigned(problem, &cluster.assignment)
         .into_iter()
         .collect()
+}
+
+/// The coincidence rule's fit: `motion`'s score under the `assumed` noise
+/// scales (where the scene's own replaced them) over the largest possible.
+/// Under the scene's own scales a motion that explains pairs by chance
+/// widens the noise until its residuals look ordinary, and fits as well as
+/// a real one; under the assumed scales it cannot buy its fit that way.
+fn assumed_fit(
+    costs: &Costs<'_>,
+    assumed: Option<costs::Noise>,
+    rp: &RigidParams,
+    motion: &RigidMotion,
+) -> f64 {
+    let score = match assumed {
+        Some(noise) => score_of(&costs.with_noise(noise), rp, motion),
+        None => score_of(costs, rp, motion),
+    };
+    score / largest_score(costs.problem.n, costs.problem.m, rp)
 }
 
 /// `(a - max of the row) / temperature`: the log of an appearance

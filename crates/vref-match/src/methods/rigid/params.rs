@@ -112,16 +112,17 @@ pub struct RigidParams {
     /// (`coincidence::evidence`: its significance, plus `evidence_margin`
     /// times its score margin over chance, `evidence_share` times the
     /// share of the smaller view it pairs and `evidence_fit` times its
-    /// score over the largest possible) is below `evidence_floor`, its
-    /// partners get at most `chance_cap` as confidence, so that they are
-    /// not `ok`. Off: every motion is taken as real.
+    /// score under the assumed noise over the largest possible) is below
+    /// `evidence_floor`, its partners get at most `chance_cap` as
+    /// confidence, so that they are not `ok`. Off: every motion is taken
+    /// as real.
     pub chance_rule: bool,
     /// Weight of the score margin over chance in the evidence.
     pub evidence_margin: f64,
     /// Weight of the share of the smaller view paired in the evidence.
     pub evidence_share: f64,
-    /// Weight of the best motion's fit (its score over the largest
-    /// possible) in the evidence.
+    /// Weight of the motion's fit (its score under the assumed noise
+    /// scales over the largest possible) in the evidence.
     pub evidence_fit: f64,
     /// Evidence below which a motion is taken as chance.
     pub evidence_floor: f64,
@@ -170,9 +171,9 @@ impl Default for RigidParams {
             chance_rows: 512,
             chance_rule: true,
             evidence_margin: 0.0,
-            evidence_share: 3.0,
-            evidence_fit: 6.0,
-            evidence_floor: 3.5,
+            evidence_share: 2.0,
+            evidence_fit: 8.0,
+            evidence_floor: 4.25,
             chance_cap: 0.45,
 
             seed: 0x5eed,
