@@ -8,7 +8,7 @@
 # ECE <= 0.05, accuracy >= best other method + 0.03) and the share of `ok`
 # answers on unrelated views (target <= 1%; not all targets are met:
 # docs/method.md says which). It fails too if that share is above the
-# pinned OK_SHARE (today's 2.7% plus 0.8).
+# pinned OK_SHARE (today's 2.5% plus 0.5).
 #
 #   bash tools/carryover-data.sh && bash tools/rigid-carryover.sh
 set -euo pipefail
@@ -28,7 +28,7 @@ pins = {
     "moi-ext-report": (0.908, 0.938, 0.041), "mrc-ext-report": (0.958, 0.957, 0.032),
     "bop-table-report": (0.990, 0.990, 0.015), "bop-floor-report": (0.990, 0.990, 0.013),
 }
-OK_SHARE = 0.035
+OK_SHARE = 0.030
 work = sys.argv[1]
 failed = []
 for name in ["method-vrefsim.json", "method-external.json", "method-bop.json"]:

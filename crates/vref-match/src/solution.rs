@@ -30,9 +30,10 @@ pub struct Solution {
     /// `-log10` of the motion's number of false alarms against chance
     /// (`rigid`, for motions of at least four pairs); `None` otherwise.
     pub significance: Option<f64>,
-    /// The motion's score (its greedy gain over "no partner") over the
-    /// largest possible, every object of the smaller view explained at no
-    /// cost (`rigid`, when it found a motion); `None` otherwise.
+    /// The motion's score (its greedy gain over "no partner") under the
+    /// noise scales assumed before the scene's own were estimated, over
+    /// the largest possible, every object of the smaller view explained at
+    /// no cost (`rigid`, when it found a motion); `None` otherwise.
     pub fit: Option<f64>,
 }
 
