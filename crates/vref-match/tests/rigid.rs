@@ -629,3 +629,62 @@ fn a_stated_error_in_a_camera_frame_lies_along_the_ray() {
     assert_eq!(sideways[0], None, "{sideways:?}");
     assert!((1..10).all(|i| sideways[i] == Some(i)), "{sideways:?}");
 }
+
+/// The fit the coincidence rule weighs is measured under the noise scales
+/// assumed before the scene's own replace them: a scene whose positions
+/// are off by two assumed scales fits far worse than the same scene
+/// measured exactly, although rigid answers both alike (a chance motion
+/// must not buy its fit by widening the noise). Measured under the
+/// scene's own scales, that fit would be 0.70 of the exact one.
+#[test]
+fn the_fit_is_measured_under_the_assumed_noise() {
+    // In front of both cameras (every z > 0), as views in camera frames
+    // are; the robot looks at the objects from 0.5 rad further round.
+    let centre = Vector3::new(0.0, 0.0, 1.2);
+    let human: Vec<_> = cloud().iter().map(|p| p + centre).collect();
+    let turn = Rotation3::from_euler_angles(0.1, 0.5, 0.0);
+    let exact: Vec<_> = human
+        .iter()
+        .map(|p| Point3::from(turn * (p - centre) + centre))
+        .collect();
+    // Off across both rays (the robot's and the human's, turned into the
+    // robot's frame) by twice the assumed lateral scale, in turn to
+    // either side: where the depth error cannot explain it.
+    let lateral = 0.2 * median_spacing(&exact).unwrap();
+    let off: Vec<_> = exact
+        .iter()
+        .zip(&human)
+        .enumerate()
+        .map(|(k, (p, h))| {
+            let across = p.coords.cross(&(turn * h.coords)).normalize();
+            p + across * (if k % 2 == 0 { 2.0 } else { -2.0 }) * lateral
+        })
+        .collect();
+    let unique: Vec<Vec<f32>> = (0..10)
+        .map(|k| (0..10).map(|d| if d == k { 1.0 } else { 0.05 }).collect())
+        .collect();
+    let params = Params::default();
+    let human_graph = graph(&human, 1..=10, &unique);
+    let answer = |robot: &[Point3<f64>]| {
+        let robot_graph = graph(robot, 101..=110, &unique);
+        let problem = Problem::new(&human_graph, &robot_graph, params.beta).unwrap();
+        solve(Method::Rigid, &problem, &params).unwrap()
+    };
+    let (clean, noisy) = (answer(&exact), answer(&off));
+    assert!(
+        (0..10).all(|i| clean.assignment[i] == Some(i)),
+        "{:?}",
+        clean.assignment
+    );
+    assert!(
+        (0..10).all(|i| noisy.assignment[i] == Some(i)),
+        "{:?}",
+        noisy.assignment
+    );
+    let (a, b) = (clean.fit.unwrap(), noisy.fit.unwrap());
+    assert!(a > 0.9, "exact scene's fit {a}");
+    assert!(
+        b < 0.6 * a,
+        "fit {b} of a scene two assumed scales off, exact {a}"
+    );
+}
