@@ -14,23 +14,25 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The system allocator, counting the calls of threads that enabled it.
 #[derive(Debug)]
 pub struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
 thread_local! {
-    static ENABLED: Cell<bool> = const { Cell::new(false) };
+    // Per thread, not one shared counter: the test harness runs tests on
+    // threads of their own at once, and one test's allocations must not
+    // land in another's count. `None`: this thread is not counting.
+    static ALLOCATIONS: Cell<Option<usize>> = const { Cell::new(None) };
 }
 
 fn note() {
     // `try_with`: the allocator may run while thread locals are torn down.
-    if ENABLED.try_with(Cell::get).unwrap_or(false) {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-    }
+    let _ = ALLOCATIONS.try_with(|count| {
+        if let Some(n) = count.get() {
+            count.set(Some(n + 1));
+        }
+    });
 }
 
 // SAFETY: every call is passed on unchanged to the system allocator; the
@@ -61,9 +63,12 @@ unsafe impl GlobalAlloc for Counting {
 /// `f`'s value and the allocations this thread made while it ran (counted
 /// only where [`Counting`] is the global allocator).
 pub fn allocations_in<T>(f: impl FnOnce() -> T) -> (T, usize) {
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
-    ENABLED.with(|e| e.set(true));
+    let outer = ALLOCATIONS.with(|count| count.replace(Some(0)));
     let value = f();
-    ENABLED.with(|e| e.set(false));
-    (value, ALLOCATIONS.load(Ordering::Relaxed) - before)
+    let n = ALLOCATIONS.with(|count| count.replace(outer)).unwrap_or(0);
+    // A count around this one counts these too.
+    if let Some(m) = outer {
+        ALLOCATIONS.with(|count| count.set(Some(m + n)));
+    }
+    (value, n)
 }

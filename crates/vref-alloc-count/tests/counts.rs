@@ -36,3 +36,15 @@ fn another_threads_allocations_are_not_counted() {
     assert_eq!(n, 0, "the worker's allocation was counted here");
     assert_eq!(worker.join().ok(), Some(1024));
 }
+
+#[test]
+fn a_count_inside_another_is_part_of_it() {
+    let ((_, inner), outer) = vref_alloc_count::allocations_in(|| {
+        let v = vec![1u8; 16];
+        let counted = vref_alloc_count::allocations_in(|| vec![2u8; 16]);
+        drop(v);
+        counted
+    });
+    assert!(inner >= 1, "{inner}");
+    assert!(outer > inner, "outer {outer}, inner {inner}");
+}
