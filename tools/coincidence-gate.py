@@ -9,9 +9,9 @@
 null-*.jsonl). A motion is taken as chance when its evidence,
 significance + a x margin + b x share + f x fit (share: partners given
 over the smaller view's size; fit: the motion's score under the assumed
-noise over the largest possible; a significance not measured counts -4, a settled scene's margin
-is infinite), is below c; its partners' confidence is then capped at CAP
-(0.45). For every (a, b, f, c) of a grid it computes every real
+noise over the largest possible; a significance not measured counts -4, a
+settled scene's margin is infinite), is below c; its partners' confidence
+is then capped at CAP (0.45). For every (a, b, f, c) of a grid it computes every real
 training file's ECE and the share of `ok` answers (a partner at confidence
 0.5 or more) among the unrelated views made as the reporting ones are (the
 first seed of each sim preset, the external and BOP training halves, the

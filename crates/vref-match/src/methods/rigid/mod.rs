@@ -31,7 +31,8 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     let log_g = appearance_log_likelihood(problem, rp.appearance_temperature, rp.appearance_floor);
     let mut costs = Costs::new(problem, &log_g, spacing, rp);
     // The scales assumed (or stated) before the scene's own noise replaces
-    // them: the coincidence rule's fit is measured under these.
+    // them: the prior of its estimate, and what the coincidence rule's fit
+    // is measured under.
     let assumed = costs.rays.as_ref().map(|r| r.noise);
     let seeds = consistency_seed(problem, params, costs.typical);
     let mut found = search(&costs, costs.typical, rp, &seeds);
@@ -39,7 +40,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     // assumed one, and the kept motions are judged again under it; again,
     // since pairs the assumed scales cut off count once the scales widen.
     if rp.noise_prior > 0.0
-        && let Some(prior) = costs.rays.as_ref().map(|r| r.noise)
+        && let Some(prior) = assumed
     {
         for _ in 0..rp.noise_rounds {
             let Some(f) = &found else { break };
