@@ -101,6 +101,8 @@ def describe(real, null):
 
 
 def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: python3 tools/coincidence-gate.py DIR (answer files written with the rule off)")
     d = sys.argv[1]
     real, null = {}, {}
     for path in sorted(glob.glob(d + "/*.jsonl")):
