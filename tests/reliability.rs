@@ -3,6 +3,7 @@
 //! the largest sequence, an old ray, one controller too many, a matcher
 //! restarted under a waiting query, a client flooding requests, and a
 //! solve that takes seconds. Each test has its own root path and prefix.
+//! Also the suite's own guard: a test that hangs is aborted, named.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod support;
@@ -12,7 +13,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
 
 use nix::sys::signal::Signal;
-use support::processes::{Harness, eventually};
+use support::processes::{Harness, eventually, join_within};
 use support::table::table_harness_with;
 use vref_inject::{HIJACK_RAY_TARGET, robot_id, valid_objects};
 use vref_scene::Side;
@@ -272,7 +273,7 @@ fn a_query_waiting_through_a_matcher_restart_is_answered_by_the_new_one() {
     std::thread::sleep(Duration::from_millis(300));
     h.kill("matcher");
     h.start("matcher", "vref-matcher", &[]);
-    let answer = asked.join().unwrap().unwrap();
+    let answer = join_within(asked, Duration::from_secs(40), "the waiting query").unwrap();
     assert!(
         matches!(answer.status(), AnswerStatus::Ok | AnswerStatus::NotReady),
         "{answer:?}"
@@ -302,7 +303,7 @@ fn a_query_waiting_through_a_matcher_restart_is_answered_by_the_new_one() {
     let asked = waiting(&ipc, 4);
     std::thread::sleep(Duration::from_millis(500));
     h.start("matcher", "vref-matcher", &[]);
-    let answer = asked.join().unwrap().unwrap();
+    let answer = join_within(asked, Duration::from_secs(40), "the waiting query").unwrap();
     assert!(
         matches!(answer.status(), AnswerStatus::Ok | AnswerStatus::NotReady),
         "{answer:?}"
@@ -544,4 +545,55 @@ fn the_matcher_cleans_up_after_a_killed_feed_on_its_own() {
     );
     // The query path went on meanwhile.
     assert!(ask(&mut client, 1).is_some());
+}
+
+/// Not a test of vref: a test that hangs, for the one below to run in a
+/// child process with a short limit.
+#[test]
+#[ignore = "hangs on purpose; run by a_hung_test_is_aborted_naming_it_and_its_services_killed"]
+fn hangs_on_purpose() {
+    let mut h = Harness::new("hang", "");
+    h.start("matcher", "vref-matcher", &[]);
+    std::thread::sleep(Duration::from_secs(120));
+}
+
+#[test]
+fn a_hung_test_is_aborted_naming_it_and_its_services_killed() {
+    // The suite's guard against a call that never returns (support::processes).
+    let this = std::env::current_exe().unwrap();
+    let run = support::vref_with(
+        &this,
+        &["--ignored", "--exact", "hangs_on_purpose"],
+        &[("VREF_TEST_LIMIT_SECS", "2")],
+        Duration::from_secs(100),
+    );
+    assert_ne!(run.code, Some(0), "{}", run.stderr);
+    let report = &run.stderr;
+    assert!(
+        report.contains("hangs_on_purpose: still running after 2s"),
+        "{report}"
+    );
+    assert!(report.contains("matcher.log"), "{report}");
+    let pid: i32 = report
+        .split("killed matcher (pid ")
+        .nth(1)
+        .and_then(|rest| rest.split(')').next())
+        .and_then(|pid| pid.parse().ok())
+        .unwrap_or_else(|| panic!("no killed matcher in:\n{report}"));
+    // Gone, or a zombie where nobody reaps the orphan (PID 1 in a container).
+    let gone = || match std::fs::read_to_string(format!("/proc/{pid}/stat")) {
+        Err(_) => true,
+        Ok(stat) => stat
+            .rsplit(')')
+            .next()
+            .is_some_and(|rest| rest.trim_start().starts_with('Z')),
+    };
+    eventually(
+        Duration::from_secs(10),
+        "the hung test's matcher gone",
+        || gone().then_some(()),
+    );
+    if report.contains("--- backtraces") {
+        assert!(report.contains("hangs_on_purpose"), "{report}");
+    }
 }
