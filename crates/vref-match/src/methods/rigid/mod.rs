@@ -233,9 +233,11 @@ fn assumed_fit(
     rp: &RigidParams,
     motion: &RigidMotion,
 ) -> f64 {
+    let current = costs.rays.as_ref().map(|r| r.noise);
     let score = match assumed {
-        Some(noise) => score_of(&costs.with_noise(noise), rp, motion),
-        None => score_of(costs, rp, motion),
+        // Cost tables are rebuilt only where the scene's noise replaced them.
+        Some(noise) if current != Some(noise) => score_of(&costs.with_noise(noise), rp, motion),
+        _ => score_of(costs, rp, motion),
     };
     score / largest_score(costs.problem.n, costs.problem.m, rp)
 }
