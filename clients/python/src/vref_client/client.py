@@ -13,7 +13,7 @@ import numpy as np
 
 from . import wire
 from .errors import AnswerTimeout, MatcherNotRunning, QueryRefused, VrefError, WrongAnswer
-from .services import Endpoint, IpcSettings, node_name, wrap
+from .services import Endpoint, IpcSettings, listener_wait, node_name, wrap
 from .validate import U64_MAX, check_timeout, check_u64, ray_parts
 
 #: Longest single sleep while waiting for an answer: the pending response
@@ -410,6 +410,6 @@ class ReferenceClient(Endpoint):
                 if left >= POLL_S:
                     self._answers.timed_wait(_POLL)
                 else:
-                    self._answers.timed_wait(iox2.Duration.from_secs_f64(left))
+                    self._answers.timed_wait(listener_wait(left))
             except Exception as e:
                 raise wrap("waiting for an answer", e) from e

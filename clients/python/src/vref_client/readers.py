@@ -7,12 +7,11 @@ import ctypes
 import time
 from dataclasses import dataclass
 
-import iceoryx2 as iox2
 import numpy as np
 
 from . import wire
 from .errors import VrefError
-from .services import Endpoint, IpcSettings, node_name, wrap
+from .services import Endpoint, IpcSettings, listener_wait, node_name, wrap
 from .validate import check_timeout
 
 _STATUS_NAMES = {code: name for name, code in wire.ANSWER_STATUSES.items()}
@@ -335,6 +334,6 @@ class DecisionReader(Endpoint):
             if left <= 0:
                 raise TimeoutError(f"no decision within {wait:g} s ({self._c.where()})")
             try:
-                self._listener.timed_wait(iox2.Duration.from_secs_f64(min(left, 0.02)))
+                self._listener.timed_wait(listener_wait(min(left, 0.02)))
             except Exception as e:
                 raise wrap("waiting for a decision", e) from e

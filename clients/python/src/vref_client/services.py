@@ -537,3 +537,17 @@ class Endpoint:
 def node_name(kind: str) -> str:
     """A node name that tells which process this is."""
     return f"vref-py-{kind}-{os.getpid()}"
+
+
+#: The shortest timeout a listener's ``timed_wait`` honours, seconds.
+#: iceoryx2 0.10 waits on a socket receive timeout in whole microseconds,
+#: and one that rounds to zero is no timeout: the wait blocks until a
+#: notification comes, for ever if none does (as in the Rust client).
+SHORTEST_LISTENER_WAIT_S = 1e-6
+
+
+def listener_wait(seconds: float) -> iox2.Duration:
+    """``seconds`` as a listener timeout, at least the shortest it honours."""
+    if seconds < SHORTEST_LISTENER_WAIT_S:
+        return iox2.Duration.from_micros(1)
+    return iox2.Duration.from_secs_f64(seconds)

@@ -8,8 +8,8 @@ use iceoryx2::prelude::*;
 
 use super::error::{IpcError, iceoryx_err};
 use super::{
-    IpcSettings, Node, ReferencePort, create_node, open_answer_event, open_reference,
-    open_request_event,
+    IpcSettings, Node, ReferencePort, create_node, listener_timeout, open_answer_event,
+    open_reference, open_request_event,
 };
 use crate::{ReferenceAnswer, ReferenceQuery};
 
@@ -224,7 +224,7 @@ impl ReferenceClient {
                 }
             }
             self.answer_event
-                .timed_wait(|_| {}, (deadline - now).min(POLL))
+                .timed_wait(|_| {}, listener_timeout((deadline - now).min(POLL)))
                 .map_err(|e| iceoryx_err("waiting for an answer", e))?;
         }
     }

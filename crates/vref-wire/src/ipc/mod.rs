@@ -18,7 +18,9 @@ pub use client::ReferenceClient;
 pub use decision::{Decision, DecisionError, DecisionPublisher, DecisionReader};
 pub use error::IpcError;
 pub use names::ServiceNames;
-pub use node::{Node, create_node, nap, now_ns, termination_requested};
+pub use node::{
+    Node, SHORTEST_LISTENER_WAIT, create_node, listener_timeout, nap, now_ns, termination_requested,
+};
 pub use publishers::{GesturePublisher, SnapshotPublisher};
 pub use server::{ClientId, ReferenceServer, Served, answer_waiting};
 pub use services::{

@@ -61,6 +61,19 @@ pub fn nap(node: &Node, cycle: Duration) -> bool {
     }
 }
 
+/// The shortest timeout a listener's `timed_wait` honours. iceoryx2 0.10
+/// waits on a socket receive timeout in whole microseconds, and one that
+/// rounds to zero is no timeout: the wait blocks until a notification
+/// comes, for ever if none does (a client whose deadline was under a
+/// microsecond away hung that way in CI). Every listener wait goes
+/// through [`listener_timeout`].
+pub const SHORTEST_LISTENER_WAIT: Duration = Duration::from_micros(1);
+
+/// `wait`, at least [`SHORTEST_LISTENER_WAIT`].
+pub fn listener_timeout(wait: Duration) -> Duration {
+    wait.max(SHORTEST_LISTENER_WAIT)
+}
+
 /// Whether a WaitSet's run ended because the process was asked to stop.
 /// `Interrupt` is any signal that cut the wait short: a SIGINT is
 /// reported as `TerminationRequest` on the next run, so only that one
