@@ -483,6 +483,15 @@ class Connection:
         except Exception:  # best effort: a failed cleanup changes nothing
             pass
 
+    def dead_nodes(self) -> bool:
+        """Whether some process died and is not yet cleaned up after (its
+        server, if it had one, is still listed meanwhile)."""
+        try:
+            states = iox2.Node.list(iox2.ServiceType.Ipc, self.node.config)
+        except Exception:  # unable to tell: nothing is known dead
+            return False
+        return any(isinstance(state, iox2.NodeState.Dead) for state in states)
+
 
 _E = TypeVar("_E", bound="Endpoint")
 

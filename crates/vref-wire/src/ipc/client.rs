@@ -1,5 +1,6 @@
 use std::time::{Duration, Instant};
 
+use iceoryx2::node::NodeView;
 use iceoryx2::pending_response::PendingResponse;
 use iceoryx2::port::client::Client;
 use iceoryx2::port::listener::Listener;
@@ -57,6 +58,35 @@ impl Servers {
     fn is_empty(&self) -> bool {
         self.count == 0
     }
+}
+
+/// Whether every server of the reference service belongs to a live node.
+/// A killed matcher's server stays listed until its cleanup is done, and
+/// the cleanup lets its requests go first: on a loaded machine the gap
+/// between the two outlasts [`REFUSED_AFTER`], and a request let go by a
+/// dead server is no refusal. Reads every node's files: only asked when a
+/// refusal is about to be reported.
+fn servers_alive(port: &ReferencePort, node: &Node) -> bool {
+    let mut nodes = [0u128; MAX_SERVERS];
+    let mut count = 0;
+    port.dynamic_config().list_servers(|details| {
+        if count < MAX_SERVERS {
+            nodes[count] = details.node_id.value();
+            count += 1;
+        }
+        CallbackProgression::Continue
+    });
+    let mut alive = 0;
+    let listed = Node::list(node.config(), |state| {
+        if let NodeState::Alive(view) = &state
+            && nodes[..count].contains(&view.id().value())
+        {
+            alive += 1;
+        }
+        CallbackProgression::Continue
+    });
+    // Unable to tell: what the requests say stands.
+    listed.is_err() || alive == count
 }
 
 /// Asks the matcher which robot object a person means. One per thread.
@@ -190,8 +220,13 @@ impl ReferenceClient {
                 if !let_go {
                     let_go_since = None;
                 } else if now.duration_since(*let_go_since.get_or_insert(now)) >= REFUSED_AFTER {
-                    // Every server it reached let it go unanswered.
-                    return Err(IpcError::Refused);
+                    if servers_alive(&self.port, &self.node) {
+                        // Every server it reached let it go unanswered.
+                        return Err(IpcError::Refused);
+                    }
+                    // A dead one's cleanup is under way: the servers
+                    // change once it ends, and the query is sent again.
+                    let_go_since = None;
                 }
             }
             if now >= deadline {
