@@ -6,6 +6,7 @@ use iceoryx2::port::client::Client;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::prelude::*;
+use iceoryx2::service::dynamic_config::request_response::ServerDetails;
 
 use super::error::{IpcError, iceoryx_err};
 use super::{
@@ -40,18 +41,24 @@ struct Servers {
 
 impl Servers {
     fn of(port: &ReferencePort) -> Self {
+        let mut servers = Self::listed(port, |details| details.server_id.value());
+        servers.ids[..servers.count].sort_unstable();
+        servers
+    }
+
+    /// One id per listed server, as `id` reads it from its details.
+    fn listed(port: &ReferencePort, id: impl Fn(&ServerDetails) -> u128) -> Self {
         let mut servers = Self {
             ids: [0; MAX_SERVERS],
             count: 0,
         };
         port.dynamic_config().list_servers(|details| {
             if servers.count < MAX_SERVERS {
-                servers.ids[servers.count] = details.server_id.value();
+                servers.ids[servers.count] = id(details);
                 servers.count += 1;
             }
             CallbackProgression::Continue
         });
-        servers.ids[..servers.count].sort_unstable();
         servers
     }
 
@@ -67,26 +74,18 @@ impl Servers {
 /// dead server is no refusal. Reads every node's files: only asked when a
 /// refusal is about to be reported.
 fn servers_alive(port: &ReferencePort, node: &Node) -> bool {
-    let mut nodes = [0u128; MAX_SERVERS];
-    let mut count = 0;
-    port.dynamic_config().list_servers(|details| {
-        if count < MAX_SERVERS {
-            nodes[count] = details.node_id.value();
-            count += 1;
-        }
-        CallbackProgression::Continue
-    });
+    let nodes = Servers::listed(port, |details| details.node_id.value());
     let mut alive = 0;
     let listed = Node::list(node.config(), |state| {
         if let NodeState::Alive(view) = &state
-            && nodes[..count].contains(&view.id().value())
+            && nodes.ids[..nodes.count].contains(&view.id().value())
         {
             alive += 1;
         }
         CallbackProgression::Continue
     });
     // Unable to tell: what the requests say stands.
-    listed.is_err() || alive == count
+    listed.is_err() || alive == nodes.count
 }
 
 /// Asks the matcher which robot object a person means. One per thread.
