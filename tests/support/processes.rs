@@ -227,11 +227,7 @@ fn backtraces() -> String {
 /// Waits for `thread` to finish, at most `limit`, and returns its result;
 /// a thread that waits on another process must not hang its test.
 pub fn join_within<T>(thread: std::thread::JoinHandle<T>, limit: Duration, what: &str) -> T {
-    let deadline = Instant::now() + limit;
-    while !thread.is_finished() {
-        assert!(Instant::now() < deadline, "{what}: not within {limit:?}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    eventually(limit, what, || thread.is_finished().then_some(()));
     thread.join().unwrap()
 }
 
