@@ -19,10 +19,11 @@ use crate::{ReferenceAnswer, ReferenceQuery};
 /// is re-checked at least this often, whatever the events say.
 const POLL: Duration = Duration::from_millis(20);
 /// While an answer is late, how often the client looks whether the
-/// servers changed (a matcher gone or started), and cleans up dead nodes
-/// so that a killed matcher's server is seen gone.
+/// servers changed (a matcher gone or started). It does not clean up dead
+/// nodes meanwhile: iceoryx2's cleanup of a killed matcher blocks for as
+/// long as it takes (over a second on a loaded machine, past the query's
+/// deadline), and a restarted matcher cleans up before it serves.
 const CHECK_EVERY: Duration = Duration::from_millis(20);
-const CLEANUP_EVERY: Duration = Duration::from_millis(250);
 /// How long a request must stay let go, with the same servers there, to
 /// count as refused: a dead server's cleanup drops its connection a moment
 /// before its listing.
@@ -67,25 +68,43 @@ impl Servers {
     }
 }
 
-/// Whether every server of the reference service belongs to a live node.
-/// A killed matcher's server stays listed until its cleanup is done, and
-/// the cleanup lets its requests go first: on a loaded machine the gap
-/// between the two outlasts [`REFUSED_AFTER`], and a request let go by a
-/// dead server is no refusal. Reads every node's files: only asked when a
-/// refusal is about to be reported.
-fn servers_alive(port: &ReferencePort, node: &Node) -> bool {
+/// The servers of the reference service, and how many of them belong to
+/// a live node; `None` when the nodes cannot be listed. A killed
+/// matcher's server stays listed until someone cleans up after it, so the
+/// listing alone does not say whether a matcher runs. Reads every node's
+/// files (without the cleanup's blocking): only asked when an error is
+/// about to be reported.
+fn live_servers(port: &ReferencePort, node: &Node) -> Option<(usize, usize)> {
     let nodes = Servers::listed(port, |details| details.node_id.value());
     let mut alive = 0;
-    let listed = Node::list(node.config(), |state| {
+    Node::list(node.config(), |state| {
         if let NodeState::Alive(view) = &state
             && nodes.ids[..nodes.count].contains(&view.id().value())
         {
             alive += 1;
         }
         CallbackProgression::Continue
-    });
-    // Unable to tell: what the requests say stands.
-    listed.is_err() || alive == nodes.count
+    })
+    .ok()
+    .map(|_| (nodes.count, alive))
+}
+
+/// Whether every server of the reference service belongs to a live node.
+/// A killed matcher's cleanup lets its requests go before its server
+/// leaves the listing: on a loaded machine the gap between the two
+/// outlasts [`REFUSED_AFTER`], and a request let go by a dead server is no
+/// refusal. Unable to tell: what the requests say stands.
+fn servers_alive(port: &ReferencePort, node: &Node) -> bool {
+    live_servers(port, node).is_none_or(|(listed, alive)| alive == listed)
+}
+
+/// Whether no server of the reference service belongs to a live node (none
+/// listed, or only killed matchers' not yet cleaned up).
+fn no_live_server(port: &ReferencePort, node: &Node) -> bool {
+    match live_servers(port, node) {
+        Some((_, alive)) => alive == 0,
+        None => Servers::of(port).is_empty(),
+    }
 }
 
 /// Asks the matcher which robot object a person means. One per thread.
@@ -193,7 +212,7 @@ impl ReferenceClient {
         self.next_request += 1;
         let mut servers = Servers::of(&self.port);
         let mut pending = Some(self.send(query)?);
-        let (mut checked, mut cleaned) = (start, start);
+        let mut checked = start;
         let mut let_go_since: Option<Instant> = None;
         loop {
             let now = Instant::now();
@@ -229,11 +248,8 @@ impl ReferenceClient {
                 }
             }
             if now >= deadline {
-                // A matcher that died leaves its server registered until
-                // someone cleans up; do it so that the error is right.
-                self.node.try_cleanup_dead_nodes();
                 let timeout_ms = u64::try_from(timeout.as_millis()).unwrap_or(u64::MAX);
-                return Err(if Servers::of(&self.port).is_empty() {
+                return Err(if no_live_server(&self.port, &self.node) {
                     IpcError::NoServer { timeout_ms }
                 } else {
                     IpcError::Timeout { timeout_ms }
@@ -241,10 +257,6 @@ impl ReferenceClient {
             }
             if now.duration_since(checked) >= CHECK_EVERY {
                 checked = now;
-                if now.duration_since(cleaned) >= CLEANUP_EVERY {
-                    cleaned = now;
-                    self.node.try_cleanup_dead_nodes();
-                }
                 let current = Servers::of(&self.port);
                 if current != servers {
                     servers = current;
