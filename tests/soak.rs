@@ -126,6 +126,8 @@ impl Counts {
 /// by the phase they were sent in.
 struct Load {
     phase: Arc<AtomicUsize>,
+    /// The phase of the query the thread is asking (or about to).
+    asking: Arc<AtomicUsize>,
     stop: Arc<AtomicBool>,
     oks: Arc<AtomicU64>,
     thread: Option<JoinHandle<Vec<Counts>>>,
@@ -141,17 +143,19 @@ const LOST_AFTER: Duration = Duration::from_millis(500);
 impl Load {
     fn start(ipc: &IpcSettings) -> Self {
         let phase = Arc::new(AtomicUsize::new(0));
+        let asking = Arc::new(AtomicUsize::new(0));
         let stop = Arc::new(AtomicBool::new(false));
         // A client is not Send: it is made in its thread.
         let ipc = ipc.clone();
         let oks = Arc::new(AtomicU64::new(0));
-        let (p, s, o) = (phase.clone(), stop.clone(), oks.clone());
+        let (p, a, s, o) = (phase.clone(), asking.clone(), stop.clone(), oks.clone());
         let thread = std::thread::spawn(move || {
             let mut client = ReferenceClient::connect(&ipc, "load-client").unwrap();
             let mut counts = vec![Counts::default(); PHASES];
             let mut id = 0;
             while !s.load(Ordering::SeqCst) {
                 let at = p.load(Ordering::SeqCst);
+                a.store(at, Ordering::SeqCst);
                 id = id % 6 + 1;
                 match client.by_human_object(id, LOST_AFTER) {
                     Ok(a) => {
@@ -172,14 +176,24 @@ impl Load {
         });
         Self {
             phase,
+            asking,
             stop,
             oks,
             thread: Some(thread),
         }
     }
 
+    /// Starts `phase` once the query in flight is answered: a query the
+    /// previous phase sent is not in flight when this phase's fault
+    /// begins, so that a matcher killed while answering it (phase 3)
+    /// does not count its loss against the phase before.
     fn set_phase(&self, phase: usize) {
         self.phase.store(phase, Ordering::SeqCst);
+        eventually(
+            Duration::from_secs(20),
+            &format!("the load asking in phase {phase}"),
+            || (self.asking.load(Ordering::SeqCst) == phase).then_some(()),
+        );
     }
 
     /// Waits until the load has had `n` more `ok` answers.
