@@ -41,7 +41,9 @@ pub use distances::distance_matrix;
 pub use error::MatchError;
 pub use evaluation::{Evaluation, MethodReport, RowAnswer};
 pub use hungarian::{Hungarian, hungarian_max};
-pub use methods::{ClipperParams, Method, RigidParams, SolveOptions, solve, solve_with};
+pub use methods::{
+    ClipperParams, Method, RigidParams, SolveOptions, rigid_assignment_under, solve, solve_with,
+};
 pub use metrics::{SceneScore, Stat, Summary, score_scene};
 pub use pair_kernel::PairAffinity;
 pub use params::{LiveParams, PaperParams, Params, RrwmParams, SmParams};

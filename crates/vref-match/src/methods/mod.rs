@@ -15,7 +15,7 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use clipper::ClipperParams;
-pub use rigid::RigidParams;
+pub use rigid::{RigidParams, assignment_under as rigid_assignment_under};
 
 use crate::{MatchError, Params, Problem, Solution, hungarian_max};
 
