@@ -7,10 +7,11 @@
 //!
 //! `cargo run --release -p vref --example error_law -- FILE.jsonl...`
 
-use std::collections::HashMap;
+#[path = "support/truth.rs"]
+mod truth;
 
 use anyhow::Context;
-use vref_match::{Problem, RigidMotion};
+use vref_match::Problem;
 use vref_scene::{Limits, read_dataset_file};
 
 #[derive(Default)]
@@ -41,23 +42,11 @@ fn main() -> anyhow::Result<()> {
         let mut t = Tally::default();
         for pair in &pairs {
             let problem = Problem::new(&pair.human, &pair.robot, 0.01)?;
-            let hid: Vec<u64> = pair.human.objects().iter().map(|o| o.id).collect();
-            let rid: Vec<u64> = pair.robot.objects().iter().map(|o| o.id).collect();
-            let truth: HashMap<u64, u64> = pair.ground_truth.iter().copied().collect();
-            let true_j: Vec<Option<usize>> = hid
-                .iter()
-                .map(|h| truth.get(h).and_then(|r| rid.iter().position(|x| x == r)))
-                .collect();
+            let true_j = truth::true_partners(pair, &problem);
             let partnered_robot: Vec<bool> =
                 (0..problem.m).map(|j| true_j.contains(&Some(j))).collect();
-            let (from, to): (Vec<_>, Vec<_>) = true_j
-                .iter()
-                .enumerate()
-                .filter_map(|(i, j)| {
-                    j.map(|j| (problem.human_positions[i], problem.robot_positions[j]))
-                })
-                .unzip();
-            let Some(gt) = RigidMotion::fit(&from, &to, &vec![1.0; from.len()]) else {
+            let (from, to) = truth::true_pairs(&problem, &true_j, None);
+            let Some(gt) = truth::fit(&from, &to) else {
                 continue;
             };
             let spacing = vref_match::median_spacing(&problem.robot_positions).unwrap_or(f64::NAN);

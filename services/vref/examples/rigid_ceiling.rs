@@ -9,7 +9,8 @@
 //!
 //! `cargo run --release -p vref --example rigid_ceiling -- FILE.jsonl...`
 
-use std::collections::HashMap;
+#[path = "support/truth.rs"]
+mod truth;
 
 use anyhow::Context;
 use vref_match::{
@@ -51,34 +52,6 @@ impl Tally {
     }
 }
 
-/// The rigid fit to the scene's ground-truth pairs, leaving out human
-/// object `without`'s; `None` below three.
-fn true_motion(pair: &ScenePair, problem: &Problem, without: Option<usize>) -> Option<RigidMotion> {
-    let rid: HashMap<u64, usize> = pair
-        .robot
-        .objects()
-        .iter()
-        .enumerate()
-        .map(|(j, o)| (o.id, j))
-        .collect();
-    let truth: HashMap<u64, u64> = pair.ground_truth.iter().copied().collect();
-    let (from, to): (Vec<_>, Vec<_>) = pair
-        .human
-        .objects()
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| Some(*i) != without)
-        .filter_map(|(i, o)| {
-            let j = *rid.get(truth.get(&o.id)?)?;
-            Some((problem.human_positions[i], problem.robot_positions[j]))
-        })
-        .unzip();
-    if from.len() < 3 {
-        return None;
-    }
-    RigidMotion::fit(&from, &to, &vec![1.0; from.len()])
-}
-
 fn main() -> anyhow::Result<()> {
     let files: Vec<String> = std::env::args().skip(1).collect();
     anyhow::ensure!(!files.is_empty(), "usage: rigid_ceiling FILE.jsonl...");
@@ -99,7 +72,12 @@ fn main() -> anyhow::Result<()> {
             let solution = solve(Method::Rigid, &problem, &params)?;
             // Scenes of under three true pairs have no true motion: every
             // line counts rigid's answer there.
-            let Some(gt) = true_motion(pair, &problem, None) else {
+            let partners = truth::true_partners(pair, &problem);
+            let true_motion = |without| {
+                let (from, to) = truth::true_pairs(&problem, &partners, without);
+                truth::fit(&from, &to)
+            };
+            let Some(gt) = true_motion(None) else {
                 without_truth += 1;
                 for t in [&mut answered, &mut own, &mut truth, &mut held_out] {
                     t.add(pair, &problem, &solution.assignment);
@@ -120,7 +98,7 @@ fn main() -> anyhow::Result<()> {
             // Each row under the true motion fitted without its own pair:
             // no row is judged by a motion fitted to it.
             let rows: Vec<RigidMotion> = (0..problem.n)
-                .map(|i| true_motion(pair, &problem, Some(i)).unwrap_or(gt))
+                .map(|i| true_motion(Some(i)).unwrap_or(gt))
                 .collect();
             held_out.add(
                 pair,

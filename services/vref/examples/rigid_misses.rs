@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release -p vref --example rigid_misses -- FILE.jsonl`
 
-use std::collections::HashMap;
+#[path = "support/truth.rs"]
+mod truth;
 
 use anyhow::Context;
 use vref_match::{Method, Params, Problem, RigidMotion, solve};
@@ -21,20 +22,10 @@ fn main() -> anyhow::Result<()> {
     for (s, pair) in pairs.iter().enumerate() {
         let problem = Problem::new(&pair.human, &pair.robot, params.beta)?;
         let solution = solve(Method::Rigid, &problem, &params)?;
-        let hid: Vec<u64> = pair.human.objects().iter().map(|o| o.id).collect();
-        let rid: Vec<u64> = pair.robot.objects().iter().map(|o| o.id).collect();
-        let truth: HashMap<u64, u64> = pair.ground_truth.iter().copied().collect();
-        let true_j = |i: usize| {
-            truth
-                .get(&hid[i])
-                .and_then(|r| rid.iter().position(|x| x == r))
-        };
-        let (from, to): (Vec<_>, Vec<_>) = (0..problem.n)
-            .filter_map(|i| {
-                true_j(i).map(|j| (problem.human_positions[i], problem.robot_positions[j]))
-            })
-            .unzip();
-        let Some(gt) = RigidMotion::fit(&from, &to, &vec![1.0; from.len()]) else {
+        let partners = truth::true_partners(pair, &problem);
+        let true_j = |i: usize| partners[i];
+        let (from, to) = truth::true_pairs(&problem, &partners, None);
+        let Some(gt) = truth::fit(&from, &to) else {
             continue;
         };
         let (pf, pt): (Vec<_>, Vec<_>) = solution

@@ -44,12 +44,9 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     {
         for _ in 0..rp.noise_rounds {
             let Some(f) = &found else { break };
-            let pairs = explained(&costs, rp, &f.motion);
-            let Some(noise) = noise::estimate(&costs, &f.motion, &pairs, prior, rp.noise_prior)
-            else {
+            let Some(adapted) = with_noise_under(&costs, rp, prior, &f.motion) else {
                 break;
             };
-            let adapted = costs.with_noise(noise);
             let settled = f.settled;
             let Some(again) = rescore(&adapted, rp, &f.kept, f.tests) else {
                 break;
@@ -86,15 +83,9 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     // again under it (training files: accuracy up on three families of
     // four, down on none, across sampler seeds; docs/method.md).
     if let (Some(prior), Some(t)) = (assumed.filter(|_| rp.noise_prior > 0.0), motion)
-        && let Some(noise) = noise::estimate(
-            &costs,
-            &t,
-            &explained(&costs, rp, &t),
-            prior,
-            rp.noise_prior,
-        )
+        && let Some(adapted) = with_noise_under(&costs, rp, prior, &t)
     {
-        costs = costs.with_noise(noise);
+        costs = adapted;
         cost = costs.matrix(motion.as_ref());
         assignment = assign(&cost, n, m, rp.unmatched_cost);
     }
@@ -238,6 +229,20 @@ fn consistency_seed(problem: &Problem, params: &Params, typical: f64) -> Vec<Rig
     fit_assigned(problem, &cluster.assignment)
         .into_iter()
         .collect()
+}
+
+/// `costs` with the noise scales that the residuals of the pairs `motion`
+/// explains show, the `prior` counting as `rp.noise_prior` pairs; `None`
+/// where they cannot be estimated (under three pairs, no rays).
+fn with_noise_under<'a>(
+    costs: &Costs<'a>,
+    rp: &RigidParams,
+    prior: costs::Noise,
+    motion: &RigidMotion,
+) -> Option<Costs<'a>> {
+    let pairs = explained(costs, rp, motion);
+    noise::estimate(costs, motion, &pairs, prior, rp.noise_prior)
+        .map(|noise| costs.with_noise(noise))
 }
 
 /// The coincidence rule's fit: `motion`'s score under the `assumed` noise
@@ -391,11 +396,10 @@ pub fn assignment_under(
         && let Some(prior) = costs.rays.as_ref().map(|r| r.noise)
     {
         for _ in 0..rp.noise_rounds {
-            let pairs = explained(&costs, rp, motion);
-            let Some(noise) = noise::estimate(&costs, motion, &pairs, prior, rp.noise_prior) else {
+            let Some(adapted) = with_noise_under(&costs, rp, prior, motion) else {
                 break;
             };
-            costs = costs.with_noise(noise);
+            costs = adapted;
         }
     }
     let mut cost = vec![0.0; n * m];
