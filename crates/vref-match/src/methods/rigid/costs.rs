@@ -8,6 +8,10 @@ use super::RigidParams;
 use crate::Problem;
 use crate::rigid::RigidMotion;
 
+/// How far below a pair's cost its bound in [`Costs::cheapest_two`] is
+/// kept, so that rounding never lifts the bound above the cost.
+const BOUND_MARGIN: f64 = 1e-9;
+
 /// The per-pair costs of one motion (or of appearance alone).
 pub(super) struct Costs<'a> {
     pub(super) problem: &'a Problem,
@@ -148,11 +152,34 @@ impl Rays {
     /// Half the squared Mahalanobis length of residual `r` of human object
     /// `i` (ray `w` in the robot frame, `alpha` = h / (lateral + h)) against
     /// robot object `j`: the covariance is `lateral I + h w w^T + c u u^T`,
-    /// inverted by Sherman-Morrison twice.
-    #[inline]
+    /// inverted by Sherman-Morrison twice. (The search and the matrices
+    /// compute it a row at a time, by [`Rays::half_lengths`].)
+    #[cfg(test)]
     fn half_distance2(&self, r: [f64; 3], w: [f64; 3], alpha: f64, j: usize) -> f64 {
         let u = [self.robot_u[0][j], self.robot_u[1][j], self.robot_u[2][j]];
         half_mahalanobis2(r, w, alpha, u, self.robot_var[j], 1.0 / self.lateral)
+    }
+
+    /// The tailed costs of human object `i`, at `moved`, against every
+    /// robot object (`xyz`: their positions by coordinate), into `out`;
+    /// beyond the gate, the half squared length itself.
+    fn row(
+        &self,
+        i: usize,
+        motion: &RigidMotion,
+        moved: &Point3<f64>,
+        xyz: &[Vec<f64>; 3],
+        out: &mut [f64],
+    ) {
+        self.half_lengths(i, motion, moved, xyz, out);
+        if self.tail > 0.0 {
+            // Beyond `gate` a pair costs more than "no partner" with or
+            // without the tail; the search only asks which pairs are below
+            // it, so the logarithm is spent on those alone.
+            for o in out.iter_mut().filter(|o| **o < self.gate) {
+                *o = self.robust(*o);
+            }
+        }
     }
 
     /// [`Rays::half_distance2`] of human object `i`, at `moved`, against
@@ -160,7 +187,7 @@ impl Rays {
     /// `out`: one pass over slices cut to one length, so that the bounds
     /// are checked once per row, not per pair (the search computes
     /// thousands of rows).
-    fn row(
+    fn half_lengths(
         &self,
         i: usize,
         motion: &RigidMotion,
@@ -181,14 +208,6 @@ impl Rays {
         for k in 0..m {
             let r = [moved.x - xs[k], moved.y - ys[k], moved.z - zs[k]];
             out[k] = half_mahalanobis2(r, w, alpha, [ux[k], uy[k], uz[k]], var[k], inv);
-        }
-        if self.tail > 0.0 {
-            // Beyond `gate` a pair costs more than "no partner" with or
-            // without the tail; the search only asks which pairs are below
-            // it, so the logarithm is spent on those alone.
-            for o in out.iter_mut().filter(|o| **o < self.gate) {
-                *o = self.robust(*o);
-            }
         }
     }
 
@@ -321,42 +340,86 @@ impl<'a> Costs<'a> {
         }
     }
 
-    fn pair(
+    /// The two cheapest pairs of human object `i` under `motion` that cost
+    /// less than `below`, cheapest first (the lower column first among
+    /// equal costs), `(INFINITY, usize::MAX)` where there are fewer: what
+    /// scanning [`Costs::row`] finds, computed with fewer logarithms. The
+    /// search asks this of thousands of rows.
+    pub(super) fn cheapest_two(
         &self,
-        motion: Option<&RigidMotion>,
-        moved: Option<&Point3<f64>>,
         i: usize,
-        j: usize,
-    ) -> f64 {
+        motion: &RigidMotion,
+        below: f64,
+        buf: &mut Vec<f64>,
+    ) -> [(f64, usize); 2] {
         let m = self.problem.m;
-        let appearance = -self.log_g[i * m + j];
-        match (motion, moved) {
-            (Some(t), Some(p)) => {
-                let d = p - self.problem.robot_positions[j];
-                if let Some(rays) = &self.rays {
-                    let (w, alpha) = rays.human_ray(i, &t.rotation);
-                    return appearance
-                        + rays.robust(rays.half_distance2([d.x, d.y, d.z], w, alpha, j));
-                }
-                let r2 = d.norm_squared();
-                let inv = self
-                    .stated
-                    .as_ref()
-                    .map_or(self.inv_two_sigma2, |inv| inv[i * m + j]);
-                appearance + r2 * inv
+        buf.resize(m, 0.0);
+        let mut best = [(f64::INFINITY, usize::MAX); 2];
+        let offer = |c: f64, j: usize, best: &mut [(f64, usize); 2]| {
+            if c < best[0].0 {
+                best[1] = best[0];
+                best[0] = (c, j);
+            } else if c < best[1].0 {
+                best[1] = (c, j);
             }
-            _ => appearance,
+        };
+        let Some(rays) = self.rays.as_ref().filter(|r| r.tail > 0.0) else {
+            self.row(i, motion, buf);
+            for (j, &c) in buf.iter().enumerate() {
+                if c < below {
+                    offer(c, j, &mut best);
+                }
+            }
+            return best;
+        };
+        let moved = motion.apply(&self.problem.human_positions[i]);
+        rays.half_lengths(i, motion, &moved, &self.robot_xyz, buf);
+        let log_g = &self.log_g[i * m..(i + 1) * m];
+        let tail = rays.tail;
+        for (j, (&q, &g)) in buf.iter().zip(log_g).enumerate() {
+            if q >= rays.gate {
+                // Untailed beyond the gate, as `row` leaves it.
+                let c = q - g;
+                if c < below {
+                    offer(c, j, &mut best);
+                }
+                continue;
+            }
+            // The tailed cost is `tail / 2 ln(1 + x)`, `x = 2q / tail`, and
+            // `ln(1 + x) >= 2x / (2 + x)` for `x >= 0`: a pair whose bound
+            // (less a margin for rounding) reaches what it would have to
+            // beat cannot be taken, and needs no logarithm. Compared
+            // multiplied out, without a division.
+            let x = 2.0 * q / tail;
+            let beat = below.min(best[1].0) + g + BOUND_MARGIN;
+            if tail * x >= beat * (2.0 + x) {
+                continue;
+            }
+            let c = rays.robust(q) - g;
+            if c < below {
+                offer(c, j, &mut best);
+            }
         }
+        best
     }
 
-    /// Row-major `n x m` costs under `motion`.
+    /// Row-major `n x m` costs under `motion`: the tail applied to every
+    /// pair, however far (the shares weigh pairs beyond the gate too).
     pub(super) fn matrix(&self, motion: Option<&RigidMotion>) -> Vec<f64> {
         let (n, m) = (self.problem.n, self.problem.m);
-        let mut out = Vec::with_capacity(n * m);
-        for i in 0..n {
-            let moved = motion.map(|t| t.apply(&self.problem.human_positions[i]));
-            for j in 0..m {
-                out.push(self.pair(motion, moved.as_ref(), i, j));
+        let Some(t) = motion.filter(|_| m > 0) else {
+            return self.log_g.iter().take(n * m).map(|g| -g).collect();
+        };
+        let mut out = vec![0.0; n * m];
+        for (i, row) in out.chunks_exact_mut(m).enumerate() {
+            let Some(rays) = &self.rays else {
+                self.row(i, t, row);
+                continue;
+            };
+            let moved = t.apply(&self.problem.human_positions[i]);
+            rays.half_lengths(i, t, &moved, &self.robot_xyz, row);
+            for (o, g) in row.iter_mut().zip(&self.log_g[i * m..(i + 1) * m]) {
+                *o = rays.robust(*o) - g;
             }
         }
         out
@@ -389,8 +452,12 @@ mod tests {
 
     use nalgebra::{Matrix3, Vector3};
 
-    use super::Rays;
+    use nalgebra::Point3;
+
+    use super::{Costs, Rays};
+    use crate::methods::rigid::RigidParams;
     use crate::methods::rigid::search::SplitMix;
+    use crate::rigid::RigidMotion;
 
     /// The Sherman-Morrison form against the covariance inverted outright.
     #[test]
@@ -455,5 +522,97 @@ mod tests {
         let across = rays.half_distance2([2.0, 0.0, 0.0], w, alpha, 0);
         assert!((along - 0.5).abs() < 1e-12, "{along}");
         assert!((across - 2.0).abs() < 1e-12, "{across}");
+    }
+
+    /// A scene of `n` human and `m` robot objects near each other, in
+    /// front of both cameras (`in_front`) or not, with random appearance.
+    fn scene(rng: &mut SplitMix, n: usize, m: usize, in_front: bool) -> crate::Problem {
+        let mut unit = || (rng.next() >> 11) as f64 / (1u64 << 53) as f64;
+        let points = |k: usize, unit: &mut dyn FnMut() -> f64| -> Vec<Point3<f64>> {
+            (0..k)
+                .map(|_| {
+                    let z = if in_front { 0.8 + 0.3 * unit() } else { 0.0 };
+                    Point3::new(0.3 * unit(), 0.2 * unit(), z)
+                })
+                .collect()
+        };
+        let human_positions = points(n, &mut unit);
+        let robot_positions = points(m, &mut unit);
+        let appearance = (0..n * m).map(|_| unit()).collect();
+        crate::Problem {
+            n,
+            m,
+            appearance,
+            spatial: crate::SpatialTerm::Pairs(crate::PairAffinity::new(
+                n,
+                m,
+                Vec::new(),
+                &vec![0.0; n * n],
+                &vec![0.0; m * m],
+                0.01,
+            )),
+            human_positions,
+            robot_positions,
+            human_variances: Vec::new(),
+            robot_variances: Vec::new(),
+        }
+    }
+
+    /// `cheapest_two` is what scanning the whole row finds, to the bit,
+    /// with the tail, without it, and without rays; `matrix` is the tailed
+    /// cost of every pair.
+    #[test]
+    fn the_cheapest_two_and_the_matrix_are_the_rows_costs() {
+        let mut rng = SplitMix(11);
+        let mut bounded = 0;
+        for case in 0..60 {
+            let rp = RigidParams {
+                tail: if case % 3 == 2 { 0.0 } else { 6.0 },
+                ..RigidParams::default()
+            };
+            let (n, m) = (2 + rng.below(12), 1 + rng.below(12));
+            let problem = scene(&mut rng, n, m, case % 5 != 4);
+            let log_g = super::super::appearance_log_likelihood(&problem, 0.2, 0.1);
+            let costs = Costs::new(&problem, &log_g, 0.05, &rp);
+            let angle = 0.05 * (rng.below(100) as f64 / 100.0);
+            let motion = RigidMotion {
+                rotation: *nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), angle).matrix(),
+                translation: Vector3::new(0.01 * rng.below(3) as f64, 0.0, 0.0),
+            };
+            let matrix = costs.matrix(Some(&motion));
+            let mut row = vec![0.0; m];
+            let mut buf = Vec::new();
+            for i in 0..n {
+                costs.row(i, &motion, &mut row);
+                for below in [rp.unmatched_cost, 1.0, f64::INFINITY] {
+                    let mut expected = [(f64::INFINITY, usize::MAX); 2];
+                    for (j, &c) in row.iter().enumerate() {
+                        if c < below && c < expected[0].0 {
+                            expected = [(c, j), expected[0]];
+                        } else if c < below && c < expected[1].0 {
+                            expected[1] = (c, j);
+                        }
+                    }
+                    let got = costs.cheapest_two(i, &motion, below, &mut buf);
+                    assert_eq!(got, expected, "case {case} row {i} below {below}");
+                    bounded += usize::from(got[1].1 != usize::MAX);
+                }
+                let Some(rays) = &costs.rays else {
+                    assert_eq!(&matrix[i * m..(i + 1) * m], &row[..], "case {case}");
+                    continue;
+                };
+                let moved = motion.apply(&problem.human_positions[i]);
+                let (w, alpha) = rays.human_ray(i, &motion.rotation);
+                for j in 0..m {
+                    let r = moved - problem.robot_positions[j];
+                    let q = rays.half_distance2([r.x, r.y, r.z], w, alpha, j);
+                    assert_eq!(matrix[i * m + j], rays.robust(q) - log_g[i * m + j]);
+                }
+            }
+        }
+        assert!(
+            bounded > 100,
+            "too few rows with two pairs below: {bounded}"
+        );
     }
 }

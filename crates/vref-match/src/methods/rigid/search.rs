@@ -9,6 +9,10 @@ use super::side::Side;
 use crate::Problem;
 use crate::rigid::RigidMotion;
 
+/// A motion with its score and the pairs its greedy assignment took
+/// (kept so that no motion's pairs are computed twice under one costs).
+type Scored = (f64, RigidMotion, Vec<(usize, usize)>);
+
 /// Minimal samples tried per hypothesis scored; most fail the cheap
 /// distance check, so this bounds the search when nothing is consistent.
 const ATTEMPTS_PER_HYPOTHESIS: usize = 50;
@@ -48,7 +52,7 @@ pub(super) fn search(
     // Distances may disagree by the noise of two positions on each side.
     let tolerance = 3.0 * sigma;
     let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
-    let mut top: Vec<(f64, RigidMotion)> = Vec::new();
+    let mut top: Vec<Scored> = Vec::new();
     let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
     let mut consistent: Vec<usize> = Vec::with_capacity(m);
     let mut scratch = Scratch::default();
@@ -124,11 +128,12 @@ pub(super) fn search(
             let beat = if top.len() < keep {
                 f64::NEG_INFINITY
             } else {
-                top.last().map_or(f64::NEG_INFINITY, |(s, _)| *s)
+                top.last().map_or(f64::NEG_INFINITY, |(s, _, _)| *s)
             };
-            if let Some((score, _)) = greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch)
+            if let Some((score, pairs)) =
+                greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch)
             {
-                keep_best(&mut top, keep, score, motion, same);
+                keep_best(&mut top, keep, (score, motion, pairs), same);
                 if score >= decisive && scored >= decisive_after {
                     settled = true;
                     break;
@@ -144,18 +149,18 @@ pub(super) fn search(
     // Motions found otherwise (the consistency graph's cluster) compete
     // with the sampled ones on the same score.
     for seed in seeds {
-        if let Some((score, _)) = greedy(
+        if let Some((score, pairs)) = greedy(
             costs,
             seed,
             rp.unmatched_cost,
             f64::NEG_INFINITY,
             &mut scratch,
         ) {
-            keep_best(&mut top, keep, score, *seed, same);
+            keep_best(&mut top, keep, (score, *seed, pairs), same);
         }
     }
     let refined = optimise_locally(costs, rp, top, &mut scratch);
-    found(costs, rp, refined, same, &mut scratch, tests).map(|f| Found { settled, ..f })
+    found(rp, refined, same, tests).map(|f| Found { settled, ..f })
 }
 
 /// What a motion drawn by the sampler scores by chance in this scene: the
@@ -213,7 +218,7 @@ pub(super) fn chance_inliers(
             continue;
         }
         drawn += 1;
-        let Some((score, _)) = greedy(
+        let Some((score, pairs)) = greedy(
             costs,
             &motion,
             rp.unmatched_cost,
@@ -222,8 +227,8 @@ pub(super) fn chance_inliers(
         ) else {
             continue;
         };
-        let refined = optimise_locally(costs, rp, vec![(score, motion)], &mut scratch);
-        let Some(&(_, motion)) = refined.first() else {
+        let refined = optimise_locally(costs, rp, vec![(score, motion, pairs)], &mut scratch);
+        let Some(&(_, motion, _)) = refined.first() else {
             continue;
         };
         if best.is_some_and(|b| same_motion(&motion, b, &probes, 2.0 * costs.typical)) {
@@ -248,31 +253,30 @@ pub(super) fn rescore(
         .iter()
         .filter_map(|m| {
             greedy(costs, m, rp.unmatched_cost, f64::NEG_INFINITY, &mut scratch)
-                .map(|(score, _)| (score, *m))
+                .map(|(score, pairs)| (score, *m, pairs))
         })
         .collect();
     let refined = optimise_locally(costs, rp, top, &mut scratch);
     let probes = probe_points(&costs.problem.human_positions);
     let tolerance = 2.0 * costs.typical;
     let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, tolerance);
-    found(costs, rp, refined, same, &mut scratch, tests)
+    found(rp, refined, same, tests)
 }
 
 fn found(
-    costs: &Costs<'_>,
     rp: &RigidParams,
-    refined: Vec<(f64, RigidMotion)>,
+    refined: Vec<Scored>,
     same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
-    scratch: &mut Scratch,
     tests: usize,
 ) -> Option<Found> {
-    let &(score, motion) = refined.first()?;
-    let alternatives = rivals(costs, rp, &motion, &refined, same, scratch);
+    let (score, motion, _) = refined.first()?;
+    let (score, motion) = (*score, *motion);
+    let alternatives = rivals(rp, &refined, same);
     Some(Found {
         motion,
         score,
         alternatives,
-        kept: refined.into_iter().map(|(_, m)| m).collect(),
+        kept: refined.into_iter().map(|(_, m, _)| m).collect(),
         tests,
         settled: false,
     })
@@ -352,34 +356,28 @@ fn draw_sample(
 fn optimise_locally(
     costs: &Costs<'_>,
     rp: &RigidParams,
-    top: Vec<(f64, RigidMotion)>,
+    top: Vec<Scored>,
     scratch: &mut Scratch,
-) -> Vec<(f64, RigidMotion)> {
-    let mut refined: Vec<(f64, RigidMotion)> = Vec::with_capacity(top.len());
-    for (mut score, mut motion) in top {
+) -> Vec<Scored> {
+    let mut refined: Vec<Scored> = Vec::with_capacity(top.len());
+    for (mut score, mut motion, mut pairs) in top {
         for _ in 0..LOCAL_REFITS {
-            let Some((_, pairs)) = greedy(
-                costs,
-                &motion,
-                rp.unmatched_cost,
-                f64::NEG_INFINITY,
-                scratch,
-            ) else {
-                break;
-            };
             let Some(refit) = fit_pairs(costs.problem, &pairs) else {
                 break;
             };
-            let Some((refit_score, _)) = greedy(costs, &refit, rp.unmatched_cost, score, scratch)
+            // A greedy pass that is not cut short by `beat` takes the same
+            // pairs as one without it.
+            let Some((refit_score, refit_pairs)) =
+                greedy(costs, &refit, rp.unmatched_cost, score, scratch)
             else {
                 break;
             };
             if refit_score <= score {
                 break;
             }
-            (score, motion) = (refit_score, refit);
+            (score, motion, pairs) = (refit_score, refit, refit_pairs);
         }
-        refined.push((score, motion));
+        refined.push((score, motion, pairs));
     }
     refined.sort_by(|a, b| b.0.total_cmp(&a.0));
     refined
@@ -390,29 +388,29 @@ fn optimise_locally(
 /// the local optimisation left short of the same pairs' fit is the best
 /// motion again, only fitted worse, and would dispute nothing real.
 fn rivals(
-    costs: &Costs<'_>,
     rp: &RigidParams,
-    motion: &RigidMotion,
-    refined: &[(f64, RigidMotion)],
+    refined: &[Scored],
     same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
-    scratch: &mut Scratch,
 ) -> Vec<(f64, RigidMotion)> {
-    let pairs_of = |m: &RigidMotion, scratch: &mut Scratch| {
-        greedy(costs, m, rp.unmatched_cost, f64::NEG_INFINITY, scratch).map(|(_, mut p)| {
-            p.sort_unstable();
-            p
-        })
+    let sorted = |p: &[(usize, usize)]| {
+        let mut p = p.to_vec();
+        p.sort_unstable();
+        p
     };
-    let mut seen = vec![pairs_of(motion, scratch)];
+    let Some((_, motion, best_pairs)) = refined.first() else {
+        return Vec::new();
+    };
+    let mut seen = vec![sorted(best_pairs)];
     let mut alternatives = Vec::new();
-    for &(other_score, other) in refined.iter().skip(1) {
+    for (other_score, other, other_pairs) in refined.iter().skip(1) {
+        let (other_score, other) = (*other_score, *other);
         if alternatives.len() >= rp.rivals {
             break;
         }
         if same(motion, &other) {
             continue;
         }
-        let pairs = pairs_of(&other, scratch);
+        let pairs = sorted(other_pairs);
         if !seen.contains(&pairs) {
             seen.push(pairs);
             alternatives.push((other_score, other));
@@ -443,21 +441,21 @@ pub(super) struct Found {
 /// distinct motions so far, best first: a motion that places the probe
 /// points like one already held replaces it only when it scores higher.
 fn keep_best(
-    top: &mut Vec<(f64, RigidMotion)>,
+    top: &mut Vec<Scored>,
     k: usize,
-    score: f64,
-    motion: RigidMotion,
+    scored: Scored,
     same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
 ) {
-    if let Some(at) = top.iter().position(|(_, held)| same(held, &motion)) {
+    let (score, motion) = (scored.0, scored.1);
+    if let Some(at) = top.iter().position(|(_, held, _)| same(held, &motion)) {
         if top[at].0 >= score {
             return;
         }
         top.remove(at);
     }
-    let at = top.partition_point(|(s, _)| *s >= score);
+    let at = top.partition_point(|(s, _, _)| *s >= score);
     if at < k {
-        top.insert(at, (score, motion));
+        top.insert(at, scored);
         top.truncate(k);
     }
 }
@@ -489,21 +487,7 @@ fn greedy(
     scratch.row.resize(m, 0.0);
     let mut bound = unmatched * n as f64;
     for i in 0..n {
-        costs.row(i, motion, &mut scratch.row);
-        // The two best columns of the row, so that a row whose best is
-        // taken can still fall back to its second.
-        let mut first = (f64::INFINITY, usize::MAX);
-        let mut second = (f64::INFINITY, usize::MAX);
-        for (j, &c) in scratch.row.iter().enumerate() {
-            if c < second.0 {
-                if c < first.0 {
-                    second = first;
-                    first = (c, j);
-                } else {
-                    second = (c, j);
-                }
-            }
-        }
+        let [first, second] = costs.cheapest_two(i, motion, unmatched, &mut scratch.row);
         bound -= unmatched - (unmatched - first.0).max(0.0);
         if bound < beat {
             return None;
