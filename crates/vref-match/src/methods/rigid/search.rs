@@ -52,6 +52,8 @@ pub(super) fn search(
     // Distances may disagree by the noise of two positions on each side.
     let tolerance = 3.0 * sigma;
     let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
+    // Every sample checks its pairs' distances: computed once.
+    let (human_d, robot_d) = (distances(hp), distances(rpos));
     let mut top: Vec<Scored> = Vec::new();
     let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
     let mut consistent: Vec<usize> = Vec::with_capacity(m);
@@ -101,8 +103,7 @@ pub(super) fn search(
             &mut rng
         };
         let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
-            let dh = (hp[i] - hp[j]).norm();
-            let dr = (rpos[a] - rpos[b]).norm();
+            let (dh, dr) = (human_d[i * n + j], robot_d[a * m + b]);
             i != j && a != b && dh > min_edge && (dh - dr).abs() <= tolerance
         };
         let mut scored = 0;
@@ -189,9 +190,9 @@ pub(super) fn chance_inliers(
         row.sort_by_key(|&col| robot_rank[col]);
     }
     let tolerance = 3.0 * costs.typical;
+    let (human_d, robot_d) = (distances(hp), distances(rpos));
     let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
-        let dh = (hp[i] - hp[j]).norm();
-        let dr = (rpos[a] - rpos[b]).norm();
+        let (dh, dr) = (human_d[i * n + j], robot_d[a * m + b]);
         i != j && a != b && (dh - dr).abs() <= tolerance
     };
     let probes = probe_points(hp);
@@ -565,6 +566,14 @@ fn candidate_columns(log_g: &[f64], n: usize, m: usize, rp: &RigidParams) -> Vec
             order.truncate(keep.max(1));
             order
         })
+        .collect()
+}
+
+/// Row-major distances between every two of `points`.
+fn distances(points: &[Point3<f64>]) -> Vec<f64> {
+    points
+        .iter()
+        .flat_map(|p| points.iter().map(move |q| (p - q).norm()))
         .collect()
 }
 
