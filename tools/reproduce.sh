@@ -108,6 +108,10 @@ step "solve time (vref bench solver)"
 # shellcheck disable=SC2086
 "$vref" bench solver --method rigid --method paper --method rrwm $solver_tiers \
   --sizes "$solver_sizes" --repeats "$solver_repeats" --json > "$out/bench-solver.jsonl"
+# The same scenes with position noise near the objects' spacing at 64
+# objects: no motion settles them, and rigid runs its whole search.
+"$vref" bench solver --method rigid --tier live --sizes 16,32,64 --noise 0.02 \
+  --repeats "$solver_repeats" --json > "$out/bench-solver-noisy.jsonl"
 
 step "pictures"
 "$vref" viz --dataset "$VREF_CARRY_DIR/moi1.jsonl" --scene moi-1-13 --method rigid --out docs/viz-moi-rigid.png 2>/dev/null

@@ -11,8 +11,9 @@ use crate::{MatchError, Method, Params, Tier};
 
 /// Extent of the synthetic workspace box, metres (a table top).
 const BOX: [f64; 3] = [0.6, 0.4, 0.2];
-/// Standard deviation of the robot's position noise, metres.
-const POSITION_NOISE: f64 = 0.002;
+/// Standard deviation of the robot's position noise, metres, unless
+/// stated otherwise ([`Scenes::noise`]).
+pub const POSITION_NOISE: f64 = 0.002;
 /// Appearance feature dimension (as the moi preset's histograms).
 const FEATURE_DIM: usize = 48;
 /// Standard deviation of the robot's feature noise, per component.
@@ -30,6 +31,8 @@ pub enum BenchError {
     TooFewObjects(usize),
     #[error("a benchmark needs at least 1 repeat")]
     NoRepeats,
+    #[error("position noise must be finite and at least 0 metres, got {0}")]
+    BadNoise(f64),
     #[error("building a synthetic scene: {0}")]
     Scene(#[from] GraphError),
     #[error("building a synthetic scene pair: {0}")]
@@ -57,12 +60,35 @@ impl Mode {
     }
 }
 
+/// The synthetic scenes a benchmark times: `objects` per view, from
+/// `seed`, the robot view's positions off by `noise` (standard deviation
+/// per axis, metres).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scenes {
+    pub objects: usize,
+    pub seed: u64,
+    pub noise: f64,
+}
+
+impl Scenes {
+    /// The default scenes: [`POSITION_NOISE`].
+    pub fn new(objects: usize, seed: u64) -> Self {
+        Self {
+            objects,
+            seed,
+            noise: POSITION_NOISE,
+        }
+    }
+}
+
 /// Percentiles of one method, size and mode.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Timing {
     pub method: Method,
     pub tier: Tier,
     pub objects: usize,
+    /// The robot view's position noise, metres.
+    pub noise: f64,
     pub mode: Mode,
     pub median_us: f64,
     pub p99_us: f64,
@@ -87,8 +113,18 @@ pub struct RigidScene {
 impl RigidScene {
     /// The same `(objects, seed)` always gives the same scene.
     pub fn new(objects: usize, seed: u64) -> Result<Self, BenchError> {
+        Self::with_noise(objects, seed, POSITION_NOISE)
+    }
+
+    /// [`RigidScene::new`] with the robot's positions off by `noise`
+    /// (standard deviation per axis, metres) instead of [`POSITION_NOISE`];
+    /// the same draws otherwise.
+    pub fn with_noise(objects: usize, seed: u64, noise: f64) -> Result<Self, BenchError> {
         if objects < 2 {
             return Err(BenchError::TooFewObjects(objects));
+        }
+        if !(noise.is_finite() && noise >= 0.0) {
+            return Err(BenchError::BadNoise(noise));
         }
         let mut rng = SplitMix::new(seed ^ (objects as u64).rotate_left(32));
         let positions: Vec<[f64; 3]> = (0..objects)
@@ -105,11 +141,7 @@ impl RigidScene {
         }
         let robot_positions: Vec<[f64; 3]> = order
             .iter()
-            .map(|&k| {
-                motion
-                    .apply(positions[k])
-                    .map(|c| c + POSITION_NOISE * rng.normal())
-            })
+            .map(|&k| motion.apply(positions[k]).map(|c| c + noise * rng.normal()))
             .collect();
         let robot_features: Vec<Vec<f32>> = order
             .iter()
@@ -181,17 +213,21 @@ impl RigidScene {
 pub fn time_solver(
     method: Method,
     tier: Tier,
-    objects: usize,
+    spec: Scenes,
     mode: Mode,
     params: &Params,
     repeats: usize,
-    seed: u64,
 ) -> Result<Timing, BenchError> {
     if repeats == 0 {
         return Err(BenchError::NoRepeats);
     }
+    let Scenes {
+        objects,
+        seed,
+        noise,
+    } = spec;
     let scenes = (0..DISTINCT_SCENES.min(repeats))
-        .map(|s| RigidScene::new(objects, seed.wrapping_add(s as u64)))
+        .map(|s| RigidScene::with_noise(objects, seed.wrapping_add(s as u64), noise))
         .collect::<Result<Vec<_>, _>>()?;
     let mut micros = Vec::with_capacity(repeats);
     let mut iterations = Vec::with_capacity(repeats);
@@ -226,6 +262,7 @@ pub fn time_solver(
         method,
         tier,
         objects,
+        noise,
         mode,
         median_us: percentile(&micros, 0.5),
         p99_us: percentile(&micros, 0.99),
@@ -418,11 +455,10 @@ mod tests {
             let t = time_solver(
                 Method::Sm,
                 tier,
-                6,
+                Scenes::new(6, 1),
                 Mode::Incremental,
                 &Params::default(),
                 3,
-                1,
             )
             .unwrap();
             assert!(t.median_us > 0.0 && t.p99_us >= t.median_us);
@@ -433,14 +469,27 @@ mod tests {
             time_solver(
                 Method::Sm,
                 Tier::Exact,
-                6,
+                Scenes::new(6, 1),
                 Mode::Full,
                 &Params::default(),
                 0,
-                1
             ),
             Err(BenchError::NoRepeats)
         );
+        for noise in [-0.001, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                RigidScene::with_noise(6, 1, noise),
+                Err(BenchError::BadNoise(_))
+            ));
+        }
+        // More noise moves the same draws farther: the scene is otherwise
+        // the same.
+        let (a, b) = (
+            RigidScene::new(6, 1).unwrap(),
+            RigidScene::with_noise(6, 1, 0.02).unwrap(),
+        );
+        assert_eq!(a.human, b.human);
+        assert_ne!(a.robot, b.robot);
         assert_eq!(
             RigidScene::new(1, 0).err(),
             Some(BenchError::TooFewObjects(1))

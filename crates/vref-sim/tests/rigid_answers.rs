@@ -137,7 +137,8 @@ fn diag_time() {
     }
     for tier in [vref_match::Tier::Exact, vref_match::Tier::Live] {
         for objects in [32, 64] {
-            let t = time_solver(Method::Rigid, tier, objects, Mode::Full, &params, 30, 1).unwrap();
+            let scenes = vref_match::bench::Scenes::new(objects, 1);
+            let t = time_solver(Method::Rigid, tier, scenes, Mode::Full, &params, 30).unwrap();
             eprintln!(
                 "TIME {tier:?} {objects}: median {:.0} us p99 {:.0} us",
                 t.median_us, t.p99_us

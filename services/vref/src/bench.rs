@@ -3,7 +3,7 @@
 
 use anyhow::{Context, anyhow};
 use vref_config::Config;
-use vref_match::bench::{Mode, Timing, time_solver};
+use vref_match::bench::{Mode, Scenes, Timing, time_solver};
 use vref_match::{Method, Tier};
 
 use crate::cli::BenchSolverArgs;
@@ -36,17 +36,14 @@ pub fn solver(args: &BenchSolverArgs) -> Result<(), Failure> {
         for &tier in &tiers {
             for &objects in &args.sizes {
                 for mode in [Mode::Full, Mode::Incremental] {
-                    let timing = time_solver(
-                        method,
-                        tier,
+                    let scenes = Scenes {
                         objects,
-                        mode,
-                        &params,
-                        args.repeats,
-                        args.seed,
-                    )
-                    .with_context(|| format!("{method} ({tier}) at {objects} objects"))
-                    .bad_input()?;
+                        seed: args.seed,
+                        noise: args.noise,
+                    };
+                    let timing = time_solver(method, tier, scenes, mode, &params, args.repeats)
+                        .with_context(|| format!("{method} ({tier}) at {objects} objects"))
+                        .bad_input()?;
                     if args.json {
                         // One line at a time, so that a long run shows progress.
                         stdout::print(&format!("{}\n", json_line(&timing)))?;
@@ -80,8 +77,8 @@ pub fn solver(args: &BenchSolverArgs) -> Result<(), Failure> {
         ]);
     }
     stdout::print(&format!(
-        "{} repeats, seed {}; incremental = update and solve after one object moved\n{table}",
-        args.repeats, args.seed
+        "{} repeats, seed {}, position noise {} m; incremental = update and solve after one object moved\n{table}",
+        args.repeats, args.seed, args.noise
     ))
 }
 
@@ -90,6 +87,7 @@ fn json_line(t: &Timing) -> serde_json::Value {
         "method": t.method.name(),
         "tier": t.tier.name(),
         "objects": t.objects,
+        "position_noise_m": t.noise,
         "mode": t.mode.name(),
         "median_us": t.median_us,
         "p99_us": t.p99_us,
@@ -110,6 +108,7 @@ mod tests {
             tiers,
             repeats: 1,
             seed: 1,
+            noise: vref_match::bench::POSITION_NOISE,
             json: true,
             config: None,
         }
@@ -121,6 +120,9 @@ mod tests {
         let mut none = args(vec![Tier::Live]);
         none.sizes.clear();
         assert!(matches!(solver(&none), Err(Failure::BadInput(_))));
+        let mut negative = args(vec![Tier::Live]);
+        negative.noise = -0.01;
+        assert!(matches!(solver(&negative), Err(Failure::BadInput(_))));
     }
 
     #[test]
@@ -129,6 +131,7 @@ mod tests {
             method: Method::Paper,
             tier: Tier::Live,
             objects: 64,
+            noise: 0.02,
             mode: Mode::Incremental,
             median_us: 1.5,
             p99_us: 2.5,
@@ -137,7 +140,8 @@ mod tests {
         assert_eq!(
             json_line(&timing),
             serde_json::json!({"method": "paper", "tier": "live", "objects": 64,
-                "mode": "incremental", "median_us": 1.5, "p99_us": 2.5, "iterations": 7})
+                "position_noise_m": 0.02, "mode": "incremental", "median_us": 1.5,
+                "p99_us": 2.5, "iterations": 7})
         );
     }
 }
