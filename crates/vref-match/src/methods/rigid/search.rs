@@ -270,8 +270,7 @@ fn found(
     same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
     tests: usize,
 ) -> Option<Found> {
-    let (score, motion, _) = refined.first()?;
-    let (score, motion) = (*score, *motion);
+    let &(score, motion, _) = refined.first()?;
     let alternatives = rivals(rp, &refined, same);
     Some(Found {
         motion,
@@ -403,8 +402,7 @@ fn rivals(
     };
     let mut seen = vec![sorted(best_pairs)];
     let mut alternatives = Vec::new();
-    for (other_score, other, other_pairs) in refined.iter().skip(1) {
-        let (other_score, other) = (*other_score, *other);
+    for &(other_score, other, ref other_pairs) in refined.iter().skip(1) {
         if alternatives.len() >= rp.rivals {
             break;
         }
