@@ -10,7 +10,6 @@
 //! reporting files with `DIAG_REPORT=1`; unrelated views of each (seed 11
 //! for training clouds, 12 for reporting); `DIAG_ONLY=real|null`;
 //! `DIAG_NOGATE=1` turns the coincidence rule off (`chance_rule = false`).
-//! `diag_time` times `rigid` at 32 and 64 objects as `vref bench solver`.
 use std::io::Write;
 use vref_match::{Evaluation, Method, Params};
 use vref_scene::{Limits, ScenePair, read_dataset_file};
@@ -124,25 +123,5 @@ fn diag() {
             &random_clouds(20, objects, 60, seed).unwrap(),
             &params,
         );
-    }
-}
-
-#[test]
-#[ignore]
-fn diag_time() {
-    use vref_match::bench::{Mode, time_solver};
-    let mut params = Params::default();
-    if std::env::var("DIAG_NOGATE").is_ok() {
-        params.rigid.chance_rows = 0;
-    }
-    for tier in [vref_match::Tier::Exact, vref_match::Tier::Live] {
-        for objects in [32, 64] {
-            let scenes = vref_match::bench::Scenes::new(objects, 1);
-            let t = time_solver(Method::Rigid, tier, scenes, Mode::Full, &params, 30).unwrap();
-            eprintln!(
-                "TIME {tier:?} {objects}: median {:.0} us p99 {:.0} us",
-                t.median_us, t.p99_us
-            );
-        }
     }
 }
