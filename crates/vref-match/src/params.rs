@@ -79,6 +79,12 @@ pub struct LiveParams {
     /// support is sparse and Sinkhorn may creep towards its tolerance for
     /// hundreds of rounds (RRWM's sharp jumps especially).
     pub sinkhorn_max_rounds: usize,
+    /// `rigid`: one solve in this many is a full search; the others start
+    /// from the motions the last solve kept, re-fitted to the changed
+    /// scene, while those still explain it (docs/method.md, "Solve
+    /// time"). A full search every so often keeps a wrong motion from
+    /// lasting. 0 or 1: every solve is a full search.
+    pub rigid_full_every: usize,
 }
 
 impl Default for LiveParams {
@@ -89,6 +95,7 @@ impl Default for LiveParams {
             appearance_margin: 0.2,
             stable_iterations: 3,
             sinkhorn_max_rounds: 30,
+            rigid_full_every: 20,
         }
     }
 }

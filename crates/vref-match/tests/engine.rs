@@ -194,3 +194,74 @@ fn live_tier_finds_the_rigid_correspondence() {
         assert!(same >= objects - 2, "{same} of {objects} kept");
     }
 }
+
+fn rigid_live(params: Params, human: &SceneGraph, robot: &SceneGraph) -> Engine {
+    let mut engine = Engine::new(Method::Rigid, Tier::Live, params).unwrap();
+    engine.update(Side::Human, human).unwrap();
+    engine.update(Side::Robot, robot).unwrap();
+    engine
+}
+
+#[test]
+fn live_rigid_resumes_from_the_last_motions_while_they_explain_the_scene() {
+    // 2 cm noise: no motion settles the scene, so a full search runs whole.
+    let scene = RigidScene::with_noise(32, 9, 0.02).unwrap();
+    let mut engine = rigid_live(Params::default(), &scene.human, &scene.robot);
+    let first = engine.solve().unwrap().0.clone();
+    assert!(!engine.resumed(), "the first solve searches");
+    let exact = fresh(&scene.human, &scene.robot, Method::Rigid);
+    assert_eq!(first, exact, "a full live solve is the exact tier's");
+
+    let moved = scene.moved(0, 3).unwrap();
+    engine.update(Side::Human, &moved.human).unwrap();
+    let after = engine.solve().unwrap().0.clone();
+    assert!(
+        engine.resumed(),
+        "one object moved: the last motions still fit"
+    );
+    let full = fresh(&moved.human, &moved.robot, Method::Rigid);
+    let same = after
+        .assignment
+        .iter()
+        .zip(&full.assignment)
+        .filter(|(a, b)| a == b)
+        .count();
+    assert!(same >= 30, "{same} of 32 answers as a full search gives");
+
+    // Another scene's human view: the last motions explain little of it,
+    // so the solve searches afresh and answers as the exact tier.
+    let other = RigidScene::with_noise(32, 77, 0.02).unwrap();
+    engine.update(Side::Human, &other.human).unwrap();
+    let got = engine.solve().unwrap().0.clone();
+    assert!(!engine.resumed(), "an unrelated view is searched");
+    assert_eq!(got, fresh(&other.human, &scene.robot, Method::Rigid));
+}
+
+#[test]
+fn live_rigid_searches_in_full_once_every_rigid_full_every_solves() {
+    let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
+    let mut params = Params::default();
+    params.live.rigid_full_every = 3;
+    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+    let mut resumed = Vec::new();
+    for step in 0..7 {
+        let moved = scene.moved(step, 11 + step as u64).unwrap();
+        engine.update(Side::Human, &moved.human).unwrap();
+        engine.solve().unwrap();
+        resumed.push(engine.resumed());
+    }
+    assert_eq!(
+        resumed,
+        [false, true, true, false, true, true, false],
+        "full, then two resumed, in turn"
+    );
+
+    params.live.rigid_full_every = 1;
+    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+    for step in 0..3 {
+        let moved = scene.moved(step, 5).unwrap();
+        engine.update(Side::Human, &moved.human).unwrap();
+        engine.solve().unwrap();
+        assert!(!engine.resumed(), "1: every solve is a full search");
+    }
+}

@@ -10,12 +10,18 @@
 //! `cargo run --release -p vref --example live_accuracy -- --objects 0,32,64 --method rigid --method paper`
 //! (0: the preset's own counts; the configuration is `vref`'s default
 //! lookup, so `VREF_CONFIG` applies).
+//!
+//! With `--resume-after SECONDS`, `rigid` is also scored as the matcher's
+//! live tier runs it: an engine solves each moment, then the views
+//! `SECONDS` later (the solve that starts from the motions the first one
+//! kept), against a full solve of those same later views.
 
 use anyhow::Context;
 use clap::Parser;
+use vref_match::engine::Engine;
 use vref_match::{
-    ECE_BINS, Method, Params, Problem, RigidMotion, expected_calibration_error, median_spacing,
-    score_scene, solve,
+    ECE_BINS, Method, Params, Problem, RigidMotion, Solution, Tier, expected_calibration_error,
+    median_spacing, score_scene, solve,
 };
 use vref_scene::{Limits, SceneGraph, Side};
 use vref_sim::LiveWorld;
@@ -31,6 +37,10 @@ struct Args {
     /// Methods to score; repeat for several.
     #[arg(long, default_values = ["rigid", "paper"])]
     method: Vec<Method>,
+    /// Also score `rigid`'s live-tier solve of the views this many seconds
+    /// after each moment, started from that moment's solve.
+    #[arg(long)]
+    resume_after: Option<f64>,
 }
 
 const MOMENTS: u64 = 40;
@@ -101,7 +111,98 @@ fn main() -> anyhow::Result<()> {
                 quantile(&mut solve_us, 0.5),
             );
         }
+        if let Some(dt) = args.resume_after {
+            resumed(&world, &params, &limits, n, dt)?;
+        }
     }
+    Ok(())
+}
+
+/// Sums over scored solves.
+#[derive(Default)]
+struct Tally {
+    accuracy: f64,
+    precision: f64,
+    scenes: usize,
+    answers: Vec<(f64, bool)>,
+    solve_us: Vec<f64>,
+}
+
+impl Tally {
+    fn add(
+        &mut self,
+        solution: &Solution,
+        human: &SceneGraph,
+        robot: &SceneGraph,
+        truth: &[(u64, u64)],
+    ) {
+        let ids: Vec<u64> = human.objects().iter().map(|o| o.id).collect();
+        let predicted = solution.id_pairs(human, robot);
+        let partner: std::collections::HashMap<u64, u64> = truth.iter().copied().collect();
+        for ((&h, a), &c) in ids
+            .iter()
+            .zip(&solution.assignment)
+            .zip(&solution.confidence)
+        {
+            let said = a.map(|j| robot.objects()[j].id);
+            self.answers.push((c, said == partner.get(&h).copied()));
+        }
+        let score = score_scene(&ids, &predicted, truth);
+        self.accuracy += score.accuracy;
+        self.precision += score.precision;
+        self.scenes += 1;
+    }
+
+    fn print(&mut self, objects: usize, name: &str) {
+        let scenes = self.scenes.max(1) as f64;
+        println!(
+            "{objects:7}  {name:14}  {:8.3}  {:9.3}  {:5.3}  {:.0} us",
+            self.accuracy / scenes,
+            self.precision / scenes,
+            expected_calibration_error(&self.answers, ECE_BINS),
+            quantile(&mut self.solve_us, 0.5),
+        );
+    }
+}
+
+/// `rigid`'s live-tier solve `dt` seconds after each moment, started from
+/// that moment's solve, against a full solve of the same later views.
+fn resumed(
+    world: &LiveWorld,
+    params: &Params,
+    limits: &Limits,
+    objects: usize,
+    dt: f64,
+) -> anyhow::Result<()> {
+    let (mut live, mut full) = (Tally::default(), Tally::default());
+    let mut resumed = 0;
+    for k in 0..MOMENTS {
+        let t = 1_000.0 + k as f64 * 1.7;
+        let (human, robot) = views(world, t, k, limits)?;
+        let mut engine = Engine::new(Method::Rigid, Tier::Live, *params)?;
+        engine.update(Side::Human, &human)?;
+        engine.update(Side::Robot, &robot)?;
+        engine.solve()?;
+        let later = t + dt;
+        let (human, robot) = views(world, later, MOMENTS + k, limits)?;
+        let truth = world.truth(later);
+        let start = std::time::Instant::now();
+        engine.update(Side::Human, &human)?;
+        engine.update(Side::Robot, &robot)?;
+        let solution = engine.solve()?.0.clone();
+        live.solve_us.push(start.elapsed().as_secs_f64() * 1e6);
+        resumed += usize::from(engine.resumed());
+        live.add(&solution, &human, &robot, &truth);
+        let problem = Problem::new(&human, &robot, params.beta)?;
+        let start = std::time::Instant::now();
+        let solution = solve(Method::Rigid, &problem, params)?;
+        full.solve_us.push(start.elapsed().as_secs_f64() * 1e6);
+        full.add(&solution, &human, &robot, &truth);
+    }
+    println!("objects  {dt} s later      accuracy  precision  ece    solve p50 (update and solve)");
+    live.print(objects, "rigid, live");
+    full.print(objects, "rigid, full");
+    println!("         resumed {resumed} of {MOMENTS} live solves");
     Ok(())
 }
 

@@ -13,6 +13,7 @@ use vref_scene::{SceneGraph, Side};
 pub use view::Change;
 use view::View;
 
+use crate::methods::{RigidTrack, rigid_solve_from};
 use crate::{
     MatchError, Method, PairAffinity, Params, Problem, Solution, SolveOptions, SpatialAffinity,
     SpatialTerm, Tier, candidate_pairs, solve_with,
@@ -48,6 +49,13 @@ pub struct Engine {
     candidates_from: Vec<f64>,
     /// Whether the views changed since the last solve.
     dirty: bool,
+    /// `rigid`, live tier: what the last solve left for the next, and the
+    /// solves since the last full search.
+    rigid_track: Option<RigidTrack>,
+    resumed_solves: usize,
+    /// Whether the last solve started from the last motions (`rigid`, live
+    /// tier) rather than searching.
+    resumed: bool,
 }
 
 impl Engine {
@@ -66,6 +74,9 @@ impl Engine {
             solved: None,
             candidates_from: Vec::new(),
             dirty: true,
+            rigid_track: None,
+            resumed_solves: 0,
+            resumed: false,
         })
     }
 
@@ -160,6 +171,12 @@ impl Engine {
         self.solved.as_ref().map(|s| &s.solution)
     }
 
+    /// Whether the last solve started from the motions the solve before it
+    /// kept instead of a full search (`rigid` in the live tier only).
+    pub fn resumed(&self) -> bool {
+        self.resumed
+    }
+
     /// Whether a solve would give something new.
     pub fn is_dirty(&self) -> bool {
         self.dirty
@@ -226,7 +243,11 @@ impl Engine {
             Tier::Exact => self.params,
             Tier::Live => self.params.for_live(),
         };
-        let solution = solve_with(self.method, &problem, &params, options)?;
+        let solution = if self.method == Method::Rigid && self.tier == Tier::Live {
+            self.solve_rigid_live(&problem, &params)
+        } else {
+            solve_with(self.method, &problem, &params, options)?
+        };
         self.spatial = Some(problem.spatial);
         self.human_in_spatial = (0..n).map(Some).collect();
         self.robot_in_spatial = (0..m).map(Some).collect();
@@ -270,6 +291,21 @@ impl Engine {
 
     /// The live tier's S on today's candidate pairs, reusing the kernel
     /// values of unchanged objects.
+    /// `rigid` in the live tier: a full search every `rigid_full_every`
+    /// solves, else a start from what the last solve kept.
+    fn solve_rigid_live(&mut self, problem: &Problem, params: &Params) -> Solution {
+        let full_every = params.live.rigid_full_every;
+        let last = self
+            .rigid_track
+            .as_ref()
+            .filter(|_| self.resumed_solves + 1 < full_every);
+        let (solution, track, resumed) = rigid_solve_from(problem, params, last);
+        self.resumed_solves = if resumed { self.resumed_solves + 1 } else { 0 };
+        self.resumed = resumed;
+        self.rigid_track = track;
+        solution
+    }
+
     fn live_spatial(&mut self) -> PairAffinity {
         let (h, r) = (&self.human, &self.robot);
         let (n, m) = (h.len(), r.len());

@@ -13,6 +13,7 @@ mod params;
 mod search;
 mod side;
 mod significance;
+mod track;
 
 use crate::rigid::{RigidMotion, median_spacing};
 use crate::{Params, Problem, Solution, hungarian_max};
@@ -20,11 +21,24 @@ use crate::{Params, Problem, Solution, hungarian_max};
 use costs::Costs;
 pub use params::RigidParams;
 use search::{chance_inliers, explained, largest_score, rescore, score_of, search};
+pub(crate) use track::Track;
 
 /// Score of a column a row must never take in the padded assignment.
 const FORBIDDEN: f64 = -1e12;
 
 pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
+    solve_from(problem, params, None).0
+}
+
+/// [`solve`], starting from what the last solve of the same (changing)
+/// scene left (`last`) where its motions still explain the scene, instead
+/// of searching; returns what this solve leaves for the next, and whether
+/// it started from `last`.
+pub(crate) fn solve_from(
+    problem: &Problem,
+    params: &Params,
+    last: Option<&Track>,
+) -> (Solution, Option<Track>, bool) {
     let rp = &params.rigid;
     let (n, m) = (problem.n, problem.m);
     let spacing = median_spacing(&problem.robot_positions).unwrap_or(params.beta.sqrt());
@@ -34,8 +48,13 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     // them: the prior of its estimate, and what the coincidence rule's fit
     // is measured under.
     let assumed = costs.rays.as_ref().map(|r| r.noise);
-    let seeds = consistency_seed(problem, params, costs.typical);
-    let mut found = search(&costs, costs.typical, rp, &seeds);
+    let resumed = last.and_then(|t| track::resume(&costs, rp, t));
+    let from = last.filter(|_| resumed.is_some());
+    let mut found = resumed.or_else(|| {
+        let seeds = consistency_seed(problem, params, costs.typical);
+        search(&costs, costs.typical, rp, &seeds)
+    });
+    let search_score = found.as_ref().map_or(0.0, |f| f.score);
     // The noise this scene shows under its best motion replaces the
     // assumed one, and the kept motions are judged again under it; again,
     // since pairs the assumed scales cut off count once the scales widen.
@@ -104,6 +123,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     // How far the motion stands above what chance explains in a view of
     // this scene that no motion explains: the calibration weighs it.
     let margin = match &found {
+        _ if from.is_some() => from.map(|t| t.margin),
         Some(f) if rp.chance_samples > 0 && !f.settled => {
             let best = motion.as_ref().unwrap_or(&f.motion);
             let null = coincidence::null_view(problem, rp.seed);
@@ -117,6 +137,10 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         _ => None,
     }
     .unwrap_or(f64::INFINITY);
+    let keep = rp.local_optimisations.max(1) + 1;
+    let track = found
+        .as_ref()
+        .map(|f| Track::after(f, search_score, motion, margin, from, keep));
 
     // The rival motions: each is weighed against the best by its score,
     // and a row's answer is only as sure as the motions that give it.
@@ -198,7 +222,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
             *c = c.min(rp.chance_cap);
         }
     }
-    Solution {
+    let solution = Solution {
         soft,
         assignment,
         confidence,
@@ -208,7 +232,8 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         margin: margin.is_finite().then_some(margin),
         significance,
         fit: motion.as_ref().map(|_| measures.fit),
-    }
+    };
+    (solution, track, from.is_some())
 }
 
 /// The motion of the densest consistent cluster of candidate pairs
