@@ -204,7 +204,8 @@ impl Engine {
         }
         // `rigid` and `clipper` never multiply by S and have no iterations
         // to stop early or warm-start: the live tier's shortcuts would only
-        // prune their candidates, so they always run as in the exact tier.
+        // prune their candidates, so they solve the exact tier's problem
+        // (`rigid`'s own live shortcut is `solve_rigid_live`).
         let tier = if matches!(self.method, Method::Rigid | Method::Clipper) {
             Tier::Exact
         } else {
