@@ -61,54 +61,34 @@ fn main() -> anyhow::Result<()> {
             .with_context(|| format!("the live world with {n} objects"))?;
         let residuals = residuals(&world, &limits)?;
         for &method in &args.method {
-            let (mut accuracy, mut precision, mut unmatched, mut humans, mut partners) =
-                (0.0, 0.0, 0, 0, 0);
-            let mut answers = Vec::new();
-            let mut solve_us = Vec::new();
+            let mut tally = Tally::default();
+            let (mut unmatched, mut humans, mut partners) = (0, 0, 0);
             for k in 0..MOMENTS {
                 let t = 1_000.0 + k as f64 * 1.7;
                 let (human, robot) = views(&world, t, k, &limits)?;
                 let problem = Problem::new(&human, &robot, params.beta)?;
                 let start = std::time::Instant::now();
                 let solution = solve(method, &problem, &params)?;
-                solve_us.push(start.elapsed().as_secs_f64() * 1e6);
-                let ids: Vec<u64> = human.objects().iter().map(|o| o.id).collect();
-                let predicted: Vec<(u64, u64)> = solution
-                    .assignment
-                    .iter()
-                    .zip(&ids)
-                    .filter_map(|(a, &h)| a.map(|j| (h, robot.objects()[j].id)))
-                    .collect();
+                tally.solve_us.push(start.elapsed().as_secs_f64() * 1e6);
                 let truth = world.truth(t);
-                let partner: std::collections::HashMap<u64, u64> = truth.iter().copied().collect();
-                for ((&h, a), &c) in ids
-                    .iter()
-                    .zip(&solution.assignment)
-                    .zip(&solution.confidence)
-                {
-                    let said = a.map(|j| robot.objects()[j].id);
-                    answers.push((c, said == partner.get(&h).copied()));
-                }
-                let score = score_scene(&ids, &predicted, &truth);
-                accuracy += score.accuracy;
-                precision += score.precision;
+                tally.add(&solution, &human, &robot, &truth);
                 unmatched += solution.assignment.iter().filter(|a| a.is_none()).count();
-                humans += ids.len();
+                humans += human.len();
                 partners += truth.len();
             }
-            let moments = MOMENTS as f64;
+            let scenes = tally.scenes as f64;
             println!(
                 "{n:7}  {:6}  {:8.3}  {:9.3}  {:5.3}  {:9.2}  {:12.2}  {:7.3} / {:.3} m  {:.3} m  {:.0} us",
                 method.to_string(),
-                accuracy / moments,
-                precision / moments,
-                expected_calibration_error(&answers, ECE_BINS),
+                tally.accuracy / scenes,
+                tally.precision / scenes,
+                expected_calibration_error(&tally.answers, ECE_BINS),
                 unmatched as f64 / humans as f64,
                 partners as f64 / humans as f64,
                 residuals.0,
                 residuals.1,
                 residuals.2,
-                quantile(&mut solve_us, 0.5),
+                quantile(&mut tally.solve_us, 0.5),
             );
         }
         if let Some(dt) = args.resume_after {

@@ -50,12 +50,9 @@ pub struct Engine {
     /// Whether the views changed since the last solve.
     dirty: bool,
     /// `rigid`, live tier: what the last solve left for the next, and the
-    /// solves since the last full search.
+    /// solves since the last full search (0: the last solve was one).
     rigid_track: Option<RigidTrack>,
     resumed_solves: usize,
-    /// Whether the last solve started from the last motions (`rigid`, live
-    /// tier) rather than searching.
-    resumed: bool,
 }
 
 impl Engine {
@@ -76,7 +73,6 @@ impl Engine {
             dirty: true,
             rigid_track: None,
             resumed_solves: 0,
-            resumed: false,
         })
     }
 
@@ -174,7 +170,7 @@ impl Engine {
     /// Whether the last solve started from the motions the solve before it
     /// kept instead of a full search (`rigid` in the live tier only).
     pub fn resumed(&self) -> bool {
-        self.resumed
+        self.resumed_solves > 0
     }
 
     /// Whether a solve would give something new.
@@ -290,8 +286,6 @@ impl Engine {
         }
     }
 
-    /// The live tier's S on today's candidate pairs, reusing the kernel
-    /// values of unchanged objects.
     /// `rigid` in the live tier: a full search every `rigid_full_every`
     /// solves, else a start from what the last solve kept.
     fn solve_rigid_live(&mut self, problem: &Problem, params: &Params) -> Solution {
@@ -302,11 +296,12 @@ impl Engine {
             .filter(|_| self.resumed_solves + 1 < full_every);
         let (solution, track, resumed) = rigid_solve_from(problem, params, last);
         self.resumed_solves = if resumed { self.resumed_solves + 1 } else { 0 };
-        self.resumed = resumed;
         self.rigid_track = track;
         solution
     }
 
+    /// The live tier's S on today's candidate pairs, reusing the kernel
+    /// values of unchanged objects.
     fn live_spatial(&mut self) -> PairAffinity {
         let (h, r) = (&self.human, &self.robot);
         let (n, m) = (h.len(), r.len());
