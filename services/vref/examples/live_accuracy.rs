@@ -14,7 +14,10 @@
 //! With `--resume-after SECONDS`, `rigid` is also scored as the matcher's
 //! live tier runs it: an engine solves each moment, then the views
 //! `SECONDS` later (the solve that starts from the motions the first one
-//! kept), against a full solve of those same later views.
+//! kept), against a full solve of those same later views. With `--chain
+//! K` as well, the engine solves the views `SECONDS` apart K times after
+//! each moment, each solve starting from the one before (as the matcher
+//! chains them between full searches), and the last is scored.
 
 use anyhow::Context;
 use clap::Parser;
@@ -41,6 +44,12 @@ struct Args {
     /// after each moment, started from that moment's solve.
     #[arg(long)]
     resume_after: Option<f64>,
+    /// With `--resume-after`: how many solves, that many seconds apart,
+    /// the engine chains after each moment's full solve; the last is
+    /// scored. At most `[matching.live] rigid_full_every` - 1 of them
+    /// are resumed ones.
+    #[arg(long, default_value_t = 1)]
+    chain: u64,
 }
 
 const MOMENTS: u64 = 40;
@@ -92,7 +101,7 @@ fn main() -> anyhow::Result<()> {
             );
         }
         if let Some(dt) = args.resume_after {
-            resumed(&world, &params, &limits, n, dt)?;
+            resumed(&world, &params, &limits, n, dt, args.chain.max(1))?;
         }
     }
     Ok(())
@@ -145,14 +154,16 @@ impl Tally {
     }
 }
 
-/// `rigid`'s live-tier solve `dt` seconds after each moment, started from
-/// that moment's solve, against a full solve of the same later views.
+/// `rigid`'s live-tier solve `chain x dt` seconds after each moment, the
+/// last of `chain` solves `dt` apart started from that moment's solve,
+/// against a full solve of the same later views.
 fn resumed(
     world: &LiveWorld,
     params: &Params,
     limits: &Limits,
     objects: usize,
     dt: f64,
+    chain: u64,
 ) -> anyhow::Result<()> {
     let (mut live, mut full) = (Tally::default(), Tally::default());
     let mut resumed = 0;
@@ -163,8 +174,14 @@ fn resumed(
         engine.update(Side::Human, &human)?;
         engine.update(Side::Robot, &robot)?;
         engine.solve()?;
-        let later = t + dt;
-        let (human, robot) = views(world, later, MOMENTS + k, limits)?;
+        for step in 1..chain {
+            let (human, robot) = views(world, t + step as f64 * dt, step * MOMENTS + k, limits)?;
+            engine.update(Side::Human, &human)?;
+            engine.update(Side::Robot, &robot)?;
+            engine.solve()?;
+        }
+        let later = t + chain as f64 * dt;
+        let (human, robot) = views(world, later, chain * MOMENTS + k, limits)?;
         let truth = world.truth(later);
         let start = std::time::Instant::now();
         engine.update(Side::Human, &human)?;
@@ -179,7 +196,10 @@ fn resumed(
         full.solve_us.push(start.elapsed().as_secs_f64() * 1e6);
         full.add(&solution, &human, &robot, &truth);
     }
-    println!("objects  {dt} s later      accuracy  precision  ece    solve p50 (update and solve)");
+    let later = chain as f64 * dt;
+    println!(
+        "objects  {later:.3} s later ({chain} x {dt} s)  accuracy  precision  ece    solve p50 (update and solve)"
+    );
     live.print(objects, "rigid, live");
     full.print(objects, "rigid, full");
     println!("         resumed {resumed} of {MOMENTS} live solves");
