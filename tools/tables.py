@@ -86,8 +86,8 @@ def coincidence_table(rows, _arg):
     return out
 
 
-def accuracy_table(_rows, _arg):
-    """The README's headline: rigid against the best other method, per family."""
+def family_groups():
+    """The held-out method results grouped by family: {(family, file): {method: [rows]}}."""
     rows = []
     for file in ["method-vrefsim.json", "method-external.json", "method-bop.json"]:
         path = os.path.join("docs/results", file)
@@ -96,26 +96,51 @@ def accuracy_table(_rows, _arg):
     groups = {}
     for r in rows:
         key = re.sub(r"\d+$", "", name(r["dataset"]))
-        groups.setdefault((key, r["file"]), []).append(r)
+        groups.setdefault((key, r["file"]), {}).setdefault(r["method"], []).append(r)
+    return groups
+
+
+def mean(rows, field):
+    """Scene-weighted mean of `field` over a family's sets."""
+    return sum(r[field] * r["scenes"] for r in rows) / sum(r["scenes"] for r in rows)
+
+
+def family_label(key, sets):
+    return FAMILIES.get(key, key) + (f", {sets} sets" if sets > 1 else "")
+
+
+def accuracy_table(_rows, _arg):
+    """The README's headline: rigid against the best other method, per family."""
     out = ["| held-out set | scenes | `rigid` accuracy / precision / ECE | best other method | file |",
            "|---|---|---|---|---|"]
-    for (key, file), these in groups.items():
-        by_method = {}
-        for r in these:
-            by_method.setdefault(r["method"], []).append(r)
-
-        def mean(method, field):
-            rs = by_method[method]
-            return sum(r[field] * r["scenes"] for r in rs) / sum(r["scenes"] for r in rs)
+    for (key, file), by_method in family_groups().items():
         if "rigid" not in by_method:
             continue
-        best = max((m for m in by_method if m != "rigid"), key=lambda m: mean(m, "accuracy"))
-        sets = len(by_method["rigid"])
-        scenes = sum(r["scenes"] for r in by_method["rigid"])
-        label = FAMILIES.get(key, key) + (f", {sets} sets" if sets > 1 else "")
-        out.append(f"| {label} | {scenes} | {mean('rigid', 'accuracy'):.3f} / "
-                   f"{mean('rigid', 'precision'):.3f} / {mean('rigid', 'ece'):.3f} | "
-                   f"{best} {mean(best, 'accuracy'):.3f} | `docs/results/{file}` |")
+        best = max((m for m in by_method if m != "rigid"), key=lambda m: mean(by_method[m], "accuracy"))
+        rigid = by_method["rigid"]
+        scenes = sum(r["scenes"] for r in rigid)
+        out.append(f"| {family_label(key, len(rigid))} | {scenes} | {mean(rigid, 'accuracy'):.3f} / "
+                   f"{mean(rigid, 'precision'):.3f} / {mean(rigid, 'ece'):.3f} | "
+                   f"{best} {mean(by_method[best], 'accuracy'):.3f} | `docs/results/{file}` |")
+    return out
+
+
+METHODS = ["appearance", "sm", "rrwm", "paper", "clipper", "rigid"]
+
+
+def families_table(_rows, _arg):
+    """Every method's accuracy per family of held-out sets; the best in bold."""
+    out = ["| held-out set | " + " | ".join(f"`{m}`" for m in METHODS) + " |",
+           "|---|" + "---|" * len(METHODS)]
+    for (key, _file), by_method in family_groups().items():
+        cells = {m: mean(by_method[m], "accuracy") for m in METHODS if m in by_method}
+        if not cells:
+            continue
+        best = max(cells.values())
+        sets = max(len(v) for v in by_method.values())
+        row = [f"**{cells[m]:.3f}**" if m in cells and cells[m] == best
+               else (f"{cells[m]:.3f}" if m in cells else "-") for m in METHODS]
+        out.append(f"| {family_label(key, sets)} | " + " | ".join(row) + " |")
     return out
 
 
@@ -310,7 +335,7 @@ def compare_table(rows, arg):
     return out
 
 
-KINDS = {"compare": compare_table, "bop": bop_table, "recording": recording_table, "pygmtools": pygmtools_table, "method": method_table, "coincidence": coincidence_table, "accuracy": accuracy_table,
+KINDS = {"compare": compare_table, "bop": bop_table, "recording": recording_table, "pygmtools": pygmtools_table, "method": method_table, "coincidence": coincidence_table, "accuracy": accuracy_table, "families": families_table,
          "cmu": cmu_table, "solver": solver_table, "query": query_table, "demo": demo_table,
          "soak": soak_table, "remote": remote_table, "python": python_table, "perception": perception_table}
 
