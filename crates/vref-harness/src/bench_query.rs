@@ -482,6 +482,8 @@ impl Report {
             "timeouts": self.timeouts,
             "errors": self.errors,
             "solve_time_p50_us": p(&self.solve_times, 0.5),
+            "solve_time_p90_us": p(&self.solve_times, 0.9),
+            "solve_time_p95_us": p(&self.solve_times, 0.95),
             "solve_time_p99_us": p(&self.solve_times, 0.99),
             "solve_time_count": self.solve_times.count(),
             "method": config.matcher.method,

@@ -85,6 +85,11 @@ pub struct LiveParams {
     /// time"). A full search every so often keeps a wrong motion from
     /// lasting. 0 or 1: every solve is a full search.
     pub rigid_full_every: usize,
+    /// `rigid`: the full search that falls due runs on a thread of its
+    /// own while solves go on resuming, and the first solve after it ends
+    /// takes up its motions; `false`: it runs in the solve that falls due,
+    /// which then takes as long as a full search.
+    pub rigid_full_apart: bool,
 }
 
 impl Default for LiveParams {
@@ -96,6 +101,7 @@ impl Default for LiveParams {
             stable_iterations: 3,
             sinkhorn_max_rounds: 30,
             rigid_full_every: 20,
+            rigid_full_apart: true,
         }
     }
 }

@@ -242,6 +242,7 @@ fn live_rigid_searches_in_full_once_every_rigid_full_every_solves() {
     let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
     let mut params = Params::default();
     params.live.rigid_full_every = 3;
+    params.live.rigid_full_apart = false;
     let mut engine = rigid_live(params, &scene.human, &scene.robot);
     let mut resumed = Vec::new();
     for step in 0..7 {
@@ -255,6 +256,7 @@ fn live_rigid_searches_in_full_once_every_rigid_full_every_solves() {
         [false, true, true, false, true, true, false],
         "full, then two resumed, in turn"
     );
+    assert_eq!(engine.full_searches(), 3);
 
     params.live.rigid_full_every = 1;
     let mut engine = rigid_live(params, &scene.human, &scene.robot);
@@ -264,4 +266,65 @@ fn live_rigid_searches_in_full_once_every_rigid_full_every_solves() {
         engine.solve().unwrap();
         assert!(!engine.resumed(), "1: every solve is a full search");
     }
+}
+
+#[test]
+fn live_rigid_runs_the_due_full_search_apart_while_solves_resume() {
+    let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
+    let mut params = Params::default();
+    params.live.rigid_full_every = 3;
+    assert!(params.live.rigid_full_apart, "the default");
+    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+    let mut resumed = Vec::new();
+    for step in 0..7 {
+        let moved = scene.moved(step, 11 + step as u64).unwrap();
+        engine.update(Side::Human, &moved.human).unwrap();
+        engine.solve().unwrap();
+        resumed.push(engine.resumed());
+        // The search apart ends before the next solve, whatever the
+        // machine's speed: the same answers every run.
+        engine.settle();
+    }
+    assert_eq!(
+        resumed,
+        [false, true, true, true, true, true, true],
+        "only the first solve searches on its own thread"
+    );
+    assert_eq!(
+        engine.full_searches(),
+        3,
+        "the first, then the two that fell due, taken up"
+    );
+}
+
+#[test]
+fn a_search_apart_overtaken_by_a_changed_scene_is_left_behind() {
+    // 64 objects at 2 cm: the search apart takes several times a resumed
+    // solve, so it is still running when the changed scene is solved (on
+    // a machine where it is not, this test passes without testing that).
+    let scene = RigidScene::with_noise(64, 9, 0.02).unwrap();
+    let mut params = Params::default();
+    params.live.rigid_full_every = 2;
+    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+    engine.solve().unwrap();
+    let moved = scene.moved(0, 3).unwrap();
+    engine.update(Side::Human, &moved.human).unwrap();
+    engine.solve().unwrap();
+    assert!(engine.resumed(), "the due search runs apart");
+
+    // Another scene's human view, nothing in common with the robot's: the
+    // solve searches on its own thread, and the search apart (of the
+    // scene before) must not replace what it found.
+    let other = RigidScene::with_noise(64, 77, 0.02).unwrap();
+    engine.update(Side::Human, &other.human).unwrap();
+    let got = engine.solve().unwrap().0.clone();
+    assert!(!engine.resumed(), "a changed scene is searched at once");
+    let searches = engine.full_searches();
+    engine.settle();
+    assert_eq!(
+        engine.full_searches(),
+        searches,
+        "the search apart, of the scene before, is left behind"
+    );
+    assert_eq!(engine.solution(), Some(&got));
 }

@@ -66,6 +66,12 @@ impl Solver {
         self.engine.method()
     }
 
+    /// Has `begin` run first on the thread of every full search the
+    /// engine runs apart (`[matching.live] rigid_full_apart`).
+    pub fn on_search_thread(&mut self, begin: fn()) {
+        self.engine.on_search_thread(begin);
+    }
+
     /// Real solves so far.
     pub fn solves(&self) -> u64 {
         self.solves

@@ -81,6 +81,17 @@ impl SolverThread {
     }
 }
 
+/// Nice value of `rigid`'s full searches apart: only a later solve needs
+/// what they find, so they give way to the solves, the queries and the
+/// feeds.
+const SEARCH_NICE: i32 = 19;
+
+fn lower_search_thread() {
+    if let Err(e) = crate::priority::set_this_thread_nice(SEARCH_NICE) {
+        tracing::debug!("a full search apart keeps the solver's priority: {e}");
+    }
+}
+
 fn solve_until_closed(mut solver: Solver, handoff: &Handoff, publishing: &Publishing) {
     if let Err(e) = crate::priority::set_this_thread_nice(publishing.nice) {
         tracing::warn!(
@@ -88,6 +99,7 @@ fn solve_until_closed(mut solver: Solver, handoff: &Handoff, publishing: &Publis
             "the solver thread keeps its priority: {e}"
         );
     }
+    solver.on_search_thread(lower_search_thread);
     // Its own node: iceoryx2's ports belong to the thread that made them.
     let decisions = create_node(&publishing.ipc, "vref-matcher-solver")
         .and_then(|node| {

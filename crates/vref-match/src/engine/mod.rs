@@ -4,12 +4,14 @@
 //! spatial kernel values, and (live tier) the next solve starts from the
 //! last solution.
 
+mod background;
 mod view;
 
 use std::collections::HashMap;
 
 use vref_scene::{SceneGraph, Side};
 
+use background::Search;
 pub use view::Change;
 use view::View;
 
@@ -49,10 +51,16 @@ pub struct Engine {
     candidates_from: Vec<f64>,
     /// Whether the views changed since the last solve.
     dirty: bool,
-    /// `rigid`, live tier: what the last solve left for the next, and the
-    /// solves since the last full search (0: the last solve was one).
+    /// `rigid`, live tier: what the last solve left for the next, the
+    /// solves since the last full search, whether the last solve resumed,
+    /// the full searches so far, and the one running apart, if any.
     rigid_track: Option<RigidTrack>,
     resumed_solves: usize,
+    last_resumed: bool,
+    full_searches: u64,
+    rigid_search: Option<Search>,
+    /// What a search apart runs first on its thread.
+    search_begin: Option<fn()>,
 }
 
 impl Engine {
@@ -73,6 +81,10 @@ impl Engine {
             dirty: true,
             rigid_track: None,
             resumed_solves: 0,
+            last_resumed: false,
+            full_searches: 0,
+            rigid_search: None,
+            search_begin: None,
         })
     }
 
@@ -170,7 +182,29 @@ impl Engine {
     /// Whether the last solve started from the motions the solve before it
     /// kept instead of a full search (`rigid` in the live tier only).
     pub fn resumed(&self) -> bool {
-        self.resumed_solves > 0
+        self.last_resumed
+    }
+
+    /// Full searches of `rigid` in the live tier so far, on the solve's
+    /// own thread or apart (`rigid_full_apart`), counting a search apart
+    /// once a solve has taken up its motions.
+    pub fn full_searches(&self) -> u64 {
+        self.full_searches
+    }
+
+    /// Has `begin` run first on the thread of every full search apart
+    /// (`rigid_full_apart`): a service lowers that thread's priority
+    /// there, since only a later solve needs its result.
+    pub fn on_search_thread(&mut self, begin: fn()) {
+        self.search_begin = Some(begin);
+    }
+
+    /// Waits for `rigid`'s full search running apart, if one is, and takes
+    /// up its motions for the next solve: what a solve does by itself once
+    /// the search has ended. For tools and tests that want the same
+    /// answers whatever the machine's speed.
+    pub fn settle(&mut self) {
+        self.take_up_search(true);
     }
 
     /// Whether a solve would give something new.
@@ -287,17 +321,59 @@ impl Engine {
     }
 
     /// `rigid` in the live tier: a full search every `rigid_full_every`
-    /// solves, else a start from what the last solve kept.
+    /// solves, else a start from what the last solve kept. With
+    /// `rigid_full_apart` the search that falls due runs on a thread of
+    /// its own while solves go on resuming.
     fn solve_rigid_live(&mut self, problem: &Problem, params: &Params) -> Solution {
+        self.take_up_search(false);
         let full_every = params.live.rigid_full_every;
+        let due = self.resumed_solves + 1 >= full_every;
+        if due
+            && params.live.rigid_full_apart
+            && full_every > 1
+            && self.rigid_track.is_some()
+            && self.rigid_search.is_none()
+        {
+            self.rigid_search = Search::start(
+                problem.clone(),
+                *params,
+                self.full_searches,
+                self.search_begin,
+            );
+        }
         let last = self
             .rigid_track
             .as_ref()
-            .filter(|_| self.resumed_solves + 1 < full_every);
+            .filter(|_| !due || self.rigid_search.is_some());
         let (solution, track, resumed) = rigid_solve_from(problem, params, last);
-        self.resumed_solves = if resumed { self.resumed_solves + 1 } else { 0 };
+        self.last_resumed = resumed;
+        if resumed {
+            self.resumed_solves += 1;
+        } else {
+            self.resumed_solves = 0;
+            self.full_searches += 1;
+        }
         self.rigid_track = track;
         solution
+    }
+
+    /// Takes up the motions of the full search running apart once it has
+    /// ended (with `wait`, once it ends), unless a full search on the
+    /// solve's own thread came after it started.
+    fn take_up_search(&mut self, wait: bool) {
+        let Some(search) = &self.rigid_search else {
+            return;
+        };
+        let Some(track) = search.ended(wait) else {
+            return;
+        };
+        let current = search.generation == self.full_searches;
+        self.rigid_search = None;
+        if current && let Some(track) = track {
+            self.rigid_track = Some(track);
+            self.resumed_solves = 0;
+            self.full_searches += 1;
+        }
     }
 
     /// The live tier's S on today's candidate pairs, reusing the kernel
