@@ -237,12 +237,11 @@ fn live_rigid_resumes_from_the_last_motions_while_they_explain_the_scene() {
     assert_eq!(got, fresh(&other.human, &scene.robot, Method::Rigid));
 }
 
-#[test]
-fn live_rigid_searches_in_full_once_every_rigid_full_every_solves() {
-    let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
-    let mut params = Params::default();
-    params.live.rigid_full_every = 3;
-    params.live.rigid_full_apart = false;
+/// Seven solves of `scene`, one object moved before each: whether each
+/// resumed, and the full searches in all. A search apart is waited for
+/// after each solve, so that it ends before the next whatever the
+/// machine's speed: the same answers every run.
+fn seven_moves(params: Params, scene: &RigidScene) -> (Vec<bool>, u64) {
     let mut engine = rigid_live(params, &scene.human, &scene.robot);
     let mut resumed = Vec::new();
     for step in 0..7 {
@@ -250,13 +249,24 @@ fn live_rigid_searches_in_full_once_every_rigid_full_every_solves() {
         engine.update(Side::Human, &moved.human).unwrap();
         engine.solve().unwrap();
         resumed.push(engine.resumed());
+        engine.settle();
     }
+    (resumed, engine.full_searches())
+}
+
+#[test]
+fn live_rigid_searches_in_full_once_every_rigid_full_every_solves() {
+    let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
+    let mut params = Params::default();
+    params.live.rigid_full_every = 3;
+    params.live.rigid_full_apart = false;
+    let (resumed, searches) = seven_moves(params, &scene);
     assert_eq!(
         resumed,
         [false, true, true, false, true, true, false],
         "full, then two resumed, in turn"
     );
-    assert_eq!(engine.full_searches(), 3);
+    assert_eq!(searches, 3);
 
     params.live.rigid_full_every = 1;
     let mut engine = rigid_live(params, &scene.human, &scene.robot);
@@ -274,25 +284,14 @@ fn live_rigid_runs_the_due_full_search_apart_while_solves_resume() {
     let mut params = Params::default();
     params.live.rigid_full_every = 3;
     assert!(params.live.rigid_full_apart, "the default");
-    let mut engine = rigid_live(params, &scene.human, &scene.robot);
-    let mut resumed = Vec::new();
-    for step in 0..7 {
-        let moved = scene.moved(step, 11 + step as u64).unwrap();
-        engine.update(Side::Human, &moved.human).unwrap();
-        engine.solve().unwrap();
-        resumed.push(engine.resumed());
-        // The search apart ends before the next solve, whatever the
-        // machine's speed: the same answers every run.
-        engine.settle();
-    }
+    let (resumed, searches) = seven_moves(params, &scene);
     assert_eq!(
         resumed,
         [false, true, true, true, true, true, true],
         "only the first solve searches on its own thread"
     );
     assert_eq!(
-        engine.full_searches(),
-        3,
+        searches, 3,
         "the first, then the two that fell due, taken up"
     );
 }
