@@ -87,8 +87,10 @@ pub struct LiveParams {
     pub rigid_full_every: usize,
     /// `rigid`: the full search that falls due runs on a thread of its
     /// own while solves go on resuming, and the first solve after it ends
-    /// takes up its motions; `false`: it runs in the solve that falls due,
-    /// which then takes as long as a full search.
+    /// takes up its motions (one still running `rigid_full_every` solves
+    /// after it fell due gives way to a search in the solve); `false`: it
+    /// runs in the solve that falls due, which then takes as long as a
+    /// full search.
     pub rigid_full_apart: bool,
 }
 

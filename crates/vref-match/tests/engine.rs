@@ -306,10 +306,13 @@ fn a_search_apart_overtaken_by_a_changed_scene_is_left_behind() {
     params.live.rigid_full_every = 2;
     let mut engine = rigid_live(params, &scene.human, &scene.robot);
     engine.solve().unwrap();
-    let moved = scene.moved(0, 3).unwrap();
-    engine.update(Side::Human, &moved.human).unwrap();
-    engine.solve().unwrap();
-    assert!(engine.resumed(), "the due search runs apart");
+    // The second solve after a full search is due (`rigid_full_every` 2).
+    for step in 0..2 {
+        let moved = scene.moved(step, 3).unwrap();
+        engine.update(Side::Human, &moved.human).unwrap();
+        engine.solve().unwrap();
+        assert!(engine.resumed(), "the due search runs apart");
+    }
 
     // Another scene's human view, nothing in common with the robot's: the
     // solve searches on its own thread, and the search apart (of the
@@ -326,4 +329,118 @@ fn a_search_apart_overtaken_by_a_changed_scene_is_left_behind() {
         "the search apart, of the scene before, is left behind"
     );
     assert_eq!(engine.solution(), Some(&got));
+}
+
+/// `graph` with every track id raised by `offset`: the same objects as
+/// another scene's, as a dataset's next scene or a restarted feed gives.
+fn renamed(graph: &SceneGraph, offset: u64) -> SceneGraph {
+    let objects = graph
+        .objects()
+        .iter()
+        .map(|o| SceneObject {
+            id: o.id + offset,
+            ..o.clone()
+        })
+        .collect();
+    SceneGraph::new(objects, None, &Limits::default()).unwrap()
+}
+
+#[test]
+fn a_view_swapped_for_another_scene_is_searched_though_the_old_motions_fit() {
+    let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
+    let mut engine = rigid_live(Params::default(), &scene.human, &scene.robot);
+    engine.solve().unwrap();
+    // Same positions, new track ids: the kept motions fit the new robot
+    // view perfectly, but they were found in a scene it is not part of.
+    engine
+        .update(Side::Robot, &renamed(&scene.robot, 1000))
+        .unwrap();
+    engine.solve().unwrap();
+    assert!(!engine.resumed(), "a new robot view is searched");
+    // Then the human view swaps too: what was found in the half-swapped
+    // views does not carry over either.
+    let human = renamed(&scene.human, 1000);
+    engine.update(Side::Human, &human).unwrap();
+    let got = engine.solve().unwrap().0.clone();
+    assert!(!engine.resumed(), "a new human view is searched");
+    assert_eq!(
+        got,
+        fresh(&human, &renamed(&scene.robot, 1000), Method::Rigid)
+    );
+    // Views that keep their objects resume again.
+    let moved = scene.moved(0, 3).unwrap();
+    engine
+        .update(Side::Human, &renamed(&moved.human, 1000))
+        .unwrap();
+    engine.solve().unwrap();
+    assert!(engine.resumed(), "the same scene, one object moved");
+}
+
+/// The time a search apart may take to end, before a test fails instead
+/// of waiting on.
+const SEARCH_WITHIN: std::time::Duration = std::time::Duration::from_secs(60);
+
+#[test]
+fn an_ended_search_apart_asks_for_a_solve_though_no_view_changed() {
+    let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
+    let mut params = Params::default();
+    params.live.rigid_full_every = 2;
+    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+    engine.solve().unwrap();
+    // The second solve after a full search is due (`rigid_full_every` 2).
+    for step in 0..2 {
+        let moved = scene.moved(step, 3).unwrap();
+        engine.update(Side::Human, &moved.human).unwrap();
+        engine.solve().unwrap();
+        assert!(engine.resumed(), "the due search runs apart");
+    }
+    // Neither view changes again: a scene held still must still get what
+    // the search apart found.
+    let started = std::time::Instant::now();
+    while !engine.is_dirty() {
+        assert!(
+            started.elapsed() < SEARCH_WITHIN,
+            "the ended search never asked for a solve"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    engine.solve().unwrap();
+    assert_eq!(engine.full_searches(), 2, "its motions were taken up");
+    assert!(!engine.is_dirty(), "and nothing more is new");
+}
+
+/// Runs first on a search apart's thread: a search as slow as one
+/// starved by a busy machine.
+fn starve() {
+    std::thread::sleep(std::time::Duration::from_secs(3));
+}
+
+#[test]
+fn a_search_apart_overdue_by_a_whole_period_gives_way_to_one_on_the_solve_thread() {
+    let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
+    let mut params = Params::default();
+    params.live.rigid_full_every = 3;
+    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+    engine.on_search_thread(starve);
+    let mut resumed = Vec::new();
+    for step in 0..7 {
+        let moved = scene.moved(step, 11 + step as u64).unwrap();
+        engine.update(Side::Human, &moved.human).unwrap();
+        engine.solve().unwrap();
+        resumed.push(engine.resumed());
+    }
+    // Seven quick solves take far less than the starved search's 3 s (on
+    // a machine where they do not, the search apart is taken up instead
+    // and this fails).
+    assert_eq!(
+        resumed,
+        [false, true, true, true, true, true, false],
+        "the search apart falls due at the fourth solve and is overdue three solves on"
+    );
+    engine.settle();
+    assert_eq!(
+        engine.full_searches(),
+        2,
+        "the starved search, overtaken, is left behind"
+    );
 }

@@ -6,6 +6,7 @@
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
+use super::rigid_live::SceneIds;
 use crate::methods::{RigidTrack, rigid_solve_from};
 use crate::{Params, Problem};
 
@@ -18,6 +19,8 @@ pub(super) struct Search {
     /// run on the solve's own thread since (the scene changed) leaves this
     /// one's motions behind.
     pub(super) generation: u64,
+    /// The views it searched.
+    pub(super) scene: SceneIds,
 }
 
 impl Search {
@@ -30,6 +33,7 @@ impl Search {
         problem: Problem,
         params: Params,
         generation: u64,
+        scene: SceneIds,
         begin: Option<fn()>,
     ) -> Option<Self> {
         let thread = std::thread::Builder::new()
@@ -44,7 +48,15 @@ impl Search {
         Some(Self {
             thread: Arc::new(Mutex::new(Some(thread))),
             generation,
+            scene,
         })
+    }
+
+    /// Whether the search has ended (or was taken), without waiting.
+    pub(super) fn has_ended(&self) -> bool {
+        self.thread
+            .lock()
+            .map_or(true, |slot| slot.as_ref().is_none_or(|t| t.is_finished()))
     }
 
     /// What the search left once it has ended (`Some(None)` when it found

@@ -5,17 +5,17 @@
 //! last solution.
 
 mod background;
+mod rigid_live;
 mod view;
 
 use std::collections::HashMap;
 
 use vref_scene::{SceneGraph, Side};
 
-use background::Search;
+use rigid_live::RigidLive;
 pub use view::Change;
 use view::View;
 
-use crate::methods::{RigidTrack, rigid_solve_from};
 use crate::{
     MatchError, Method, PairAffinity, Params, Problem, Solution, SolveOptions, SpatialAffinity,
     SpatialTerm, Tier, candidate_pairs, solve_with,
@@ -51,16 +51,8 @@ pub struct Engine {
     candidates_from: Vec<f64>,
     /// Whether the views changed since the last solve.
     dirty: bool,
-    /// `rigid`, live tier: what the last solve left for the next, the
-    /// solves since the last full search, whether the last solve resumed,
-    /// the full searches so far, and the one running apart, if any.
-    rigid_track: Option<RigidTrack>,
-    resumed_solves: usize,
-    last_resumed: bool,
-    full_searches: u64,
-    rigid_search: Option<Search>,
-    /// What a search apart runs first on its thread.
-    search_begin: Option<fn()>,
+    /// `rigid`, live tier: what one solve carries to the next.
+    rigid: RigidLive,
 }
 
 impl Engine {
@@ -79,12 +71,7 @@ impl Engine {
             solved: None,
             candidates_from: Vec::new(),
             dirty: true,
-            rigid_track: None,
-            resumed_solves: 0,
-            last_resumed: false,
-            full_searches: 0,
-            rigid_search: None,
-            search_begin: None,
+            rigid: RigidLive::default(),
         })
     }
 
@@ -182,21 +169,21 @@ impl Engine {
     /// Whether the last solve started from the motions the solve before it
     /// kept instead of a full search (`rigid` in the live tier only).
     pub fn resumed(&self) -> bool {
-        self.last_resumed
+        self.rigid.last_resumed
     }
 
     /// Full searches of `rigid` in the live tier so far, on the solve's
     /// own thread or apart (`rigid_full_apart`), counting a search apart
     /// once a solve has taken up its motions.
     pub fn full_searches(&self) -> u64 {
-        self.full_searches
+        self.rigid.full_searches
     }
 
     /// Has `begin` run first on the thread of every full search apart
     /// (`rigid_full_apart`): a service lowers that thread's priority
     /// there, since only a later solve needs its result.
     pub fn on_search_thread(&mut self, begin: fn()) {
-        self.search_begin = Some(begin);
+        self.rigid.begin = Some(begin);
     }
 
     /// Waits for `rigid`'s full search running apart, if one is, and takes
@@ -204,18 +191,20 @@ impl Engine {
     /// the search has ended. For tools and tests that want the same
     /// answers whatever the machine's speed.
     pub fn settle(&mut self) {
-        self.take_up_search(true);
+        self.rigid.take_up(true);
     }
 
-    /// Whether a solve would give something new.
+    /// Whether a solve would give something new: the views changed, or a
+    /// full search of `rigid` apart has ended whose motions a solve would
+    /// take up.
     pub fn is_dirty(&self) -> bool {
-        self.dirty
+        self.dirty || self.solved.is_none() || self.rigid.has_news()
     }
 
     /// Solves if the views changed since the last solve, and returns the
     /// solution with the track ids of its rows and columns.
     pub fn solve(&mut self) -> Result<(&Solution, &[u64], &[u64]), MatchError> {
-        if self.dirty || self.solved.is_none() {
+        if self.is_dirty() {
             self.resolve()?;
         }
         match &self.solved {
@@ -235,7 +224,7 @@ impl Engine {
         // `rigid` and `clipper` never multiply by S and have no iterations
         // to stop early or warm-start: the live tier's shortcuts would only
         // prune their candidates, so they solve the exact tier's problem
-        // (`rigid`'s own live shortcut is `solve_rigid_live`).
+        // (`rigid`'s own live shortcut is in `rigid_live`).
         let tier = if matches!(self.method, Method::Rigid | Method::Clipper) {
             Tier::Exact
         } else {
@@ -275,7 +264,9 @@ impl Engine {
             Tier::Live => self.params.for_live(),
         };
         let solution = if self.method == Method::Rigid && self.tier == Tier::Live {
-            self.solve_rigid_live(&problem, &params)
+            let ids = |objects: &[view::Tracked]| objects.iter().map(|o| o.id).collect::<Vec<_>>();
+            let (human, robot) = (ids(&self.human.objects), ids(&self.robot.objects));
+            self.rigid.solve(&problem, &params, &human, &robot)
         } else {
             solve_with(self.method, &problem, &params, options)?
         };
@@ -317,62 +308,6 @@ impl Engine {
                 &r.distances,
                 self.params.beta,
             ),
-        }
-    }
-
-    /// `rigid` in the live tier: a full search every `rigid_full_every`
-    /// solves, else a start from what the last solve kept. With
-    /// `rigid_full_apart` the search that falls due runs on a thread of
-    /// its own while solves go on resuming.
-    fn solve_rigid_live(&mut self, problem: &Problem, params: &Params) -> Solution {
-        self.take_up_search(false);
-        let full_every = params.live.rigid_full_every;
-        let due = self.resumed_solves + 1 >= full_every;
-        if due
-            && params.live.rigid_full_apart
-            && full_every > 1
-            && self.rigid_track.is_some()
-            && self.rigid_search.is_none()
-        {
-            self.rigid_search = Search::start(
-                problem.clone(),
-                *params,
-                self.full_searches,
-                self.search_begin,
-            );
-        }
-        let last = self
-            .rigid_track
-            .as_ref()
-            .filter(|_| !due || self.rigid_search.is_some());
-        let (solution, track, resumed) = rigid_solve_from(problem, params, last);
-        self.last_resumed = resumed;
-        if resumed {
-            self.resumed_solves += 1;
-        } else {
-            self.resumed_solves = 0;
-            self.full_searches += 1;
-        }
-        self.rigid_track = track;
-        solution
-    }
-
-    /// Takes up the motions of the full search running apart once it has
-    /// ended (with `wait`, once it ends), unless a full search on the
-    /// solve's own thread came after it started.
-    fn take_up_search(&mut self, wait: bool) {
-        let Some(search) = &self.rigid_search else {
-            return;
-        };
-        let Some(track) = search.ended(wait) else {
-            return;
-        };
-        let current = search.generation == self.full_searches;
-        self.rigid_search = None;
-        if current && let Some(track) = track {
-            self.rigid_track = Some(track);
-            self.resumed_solves = 0;
-            self.full_searches += 1;
         }
     }
 
