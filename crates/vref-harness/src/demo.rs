@@ -342,8 +342,14 @@ fn line(
         |id| format!("robot {id}"),
     );
     let verdict = if right { "right" } else { "WRONG" };
+    // The ray can take a neighbour of the object meant (a dense scene).
+    let took = if a.human_object_id != 0 && a.human_object_id != g.human_id {
+        format!(" (the ray took human {})", a.human_object_id)
+    } else {
+        String::new()
+    };
     format!(
-        "t={:.1}s pointed at human {} (truth: {truth}) -> {} robot {} confidence {:.2}: {verdict} ({rtt} us)\n",
+        "t={:.1}s pointed at human {} (truth: {truth}) -> {} robot {}{took} confidence {:.2}: {verdict} ({rtt} us)\n",
         t % 1000.0,
         g.human_id,
         a.status().name(),

@@ -5,9 +5,9 @@ use vref_wire::{
 };
 
 use crate::ReferenceState;
-use crate::resolve_ray;
 use crate::solver::Solved;
 use crate::stamp::{Now, capture_age, micros};
+use crate::{Pointed, resolve_ray};
 
 /// What a solution concluded about one human object (row): the status an
 /// answer or a published decision gives it, before any staleness.
@@ -53,16 +53,17 @@ impl ReferenceState {
         if solved.real {
             answer.flags |= ReferenceAnswer::FLAG_SOLVED;
         }
-        let Some(row) = self.human_target(solved, kind, query, now, &mut answer) else {
+        let Some(target) = self.human_target(solved, kind, query, now, &mut answer) else {
             return self.mark_stale(answer);
         };
-        answer.human_object_id = solved.human.graph.objects()[row].id;
-        self.fill_match(solved, row, &mut answer);
+        answer.human_object_id = solved.human.graph.objects()[target.row].id;
+        self.fill_match(solved, target, &mut answer);
         self.mark_stale(answer)
     }
 
-    /// The row of the solved human view the query is about; `None` with
-    /// the answer's status set when there is none.
+    /// The row of the solved human view the query is about, with the
+    /// share of the pointing in it (1 for a query by id); `None` with the
+    /// answer's status set when there is none.
     fn human_target(
         &self,
         solved: &Solved,
@@ -70,7 +71,7 @@ impl ReferenceState {
         query: &ReferenceQuery,
         now: &Now,
         answer: &mut ReferenceAnswer,
-    ) -> Option<usize> {
+    ) -> Option<Pointed> {
         let graph = &solved.human.graph;
         let by_ray = |ray: &Ray, answer: &mut ReferenceAnswer| {
             let found = resolve_ray(graph, ray);
@@ -85,7 +86,7 @@ impl ReferenceState {
                 if found.is_none() {
                     answer.status = AnswerStatus::BadRequest as u32;
                 }
-                found
+                found.map(|row| Pointed { row, share: 1.0 })
             }
             QueryKind::Ray => match query_ray(query).validate() {
                 Ok(ray) => by_ray(&ray, answer),
@@ -108,10 +109,13 @@ impl ReferenceState {
         }
     }
 
-    /// Writes the robot object matched to human object `row` (if any),
-    /// the solution's confidence in that answer, the next-best
-    /// alternatives and the answered object in the human view's frame.
-    fn fill_match(&self, solved: &Solved, row: usize, answer: &mut ReferenceAnswer) {
+    /// Writes the robot object matched to the target's human object (if
+    /// any), the confidence in that answer (the solution's, times the
+    /// target's pointing share: the answer is right only if the person
+    /// meant that object), the next-best alternatives and the answered
+    /// object in the human view's frame.
+    fn fill_match(&self, solved: &Solved, target: Pointed, answer: &mut ReferenceAnswer) {
+        let row = target.row;
         let solution = &solved.solution;
         let objects = solved.robot.graph.objects();
         let m = objects.len();
@@ -124,7 +128,7 @@ impl ReferenceState {
                 1.0 / m as f64
             }
         };
-        let confidence = solution.confidence.get(row).copied().unwrap_or(0.0);
+        let confidence = solution.confidence.get(row).copied().unwrap_or(0.0) * target.share;
         let assigned = solution.assignment.get(row).copied().flatten();
         answer.confidence = confidence as f32;
         let human_object = &solved.human.graph.objects()[row];

@@ -34,4 +34,4 @@ pub use settings::MatcherSettings;
 pub use solver::{Pair, Solved, Solver};
 pub use stamp::{Now, capture_age};
 pub use state::{Accepted, ReferenceState, Rejected};
-pub use target::resolve_ray;
+pub use target::{Pointed, resolve_ray};

@@ -705,3 +705,42 @@ fn cached_answers_allocate_nothing() {
         }
     }
 }
+
+#[test]
+fn a_ray_between_two_objects_halves_the_confidence_of_the_one_it_takes() {
+    let now = Now::read();
+    let s = ready(&now);
+    let unit = |v: [f32; 3]| {
+        let n = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+        v.map(|x| x / n)
+    };
+    let (a, b) = (unit(WORLD[0]), unit(WORLD[3]));
+    // The bisector of the directions to objects 1 and 4, both 0.12 rad
+    // off it and inside a 0.15 rad cone (object 3 is 0.19 rad off): the
+    // pointing is split in two.
+    let between = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+    let mut q = query(QueryKind::Ray, 0, [0.0; 3], between);
+    q.cone_half_angle = 0.15;
+    let split = s.answer(&q, &now);
+    let alone = s.answer(&by_id(split.human_object_id), &now);
+    assert!([1, 4].contains(&split.human_object_id), "{split:?}");
+    assert_eq!(split.robot_track_id, alone.robot_track_id);
+    let half = 0.5 * alone.confidence;
+    assert!(
+        (split.confidence - half).abs() < 1e-3,
+        "{split:?} {alone:?}"
+    );
+    let expected = if half < 0.5 {
+        AnswerStatus::Ambiguous
+    } else {
+        AnswerStatus::Ok
+    };
+    assert_eq!(split.status, expected as u32);
+
+    // Straight at object 4: object 1, 0.24 rad off, is outside the cone.
+    let mut q = query(QueryKind::Ray, 0, [0.0; 3], WORLD[3]);
+    q.cone_half_angle = 0.15;
+    let straight = s.answer(&q, &now);
+    assert_eq!(straight.human_object_id, 4);
+    assert_eq!(straight.confidence, s.answer(&by_id(4), &now).confidence);
+}

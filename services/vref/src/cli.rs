@@ -341,11 +341,10 @@ pub struct QueryArgs {
     #[arg(
         long,
         value_name = "OX,OY,OZ,DX,DY,DZ",
-        value_delimiter = ',',
-        num_args = 6,
-        allow_negative_numbers = true
+        value_parser = six_numbers,
+        allow_hyphen_values = true
     )]
-    pub ray: Option<Vec<f32>>,
+    pub ray: Option<[f32; 6]>,
     /// The object the latest pointing gesture points at.
     #[arg(long)]
     pub latest_gesture: bool,
@@ -523,6 +522,22 @@ pub struct ViewArgs {
     /// Configuration file (its [ipc] section says where the services are).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+/// Six comma-separated numbers, as `--ray` takes them (one value, so
+/// that `--help` names it once).
+fn six_numbers(s: &str) -> Result<[f32; 6], String> {
+    let numbers = s
+        .split(',')
+        .map(|v| {
+            v.trim()
+                .parse::<f32>()
+                .map_err(|_| format!("`{v}` is not a number"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    numbers
+        .try_into()
+        .map_err(|n: Vec<f32>| format!("six numbers are needed, got {}", n.len()))
 }
 
 /// `bop:DIR`, the one images source so far (the form of the feeds'
