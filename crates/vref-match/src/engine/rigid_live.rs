@@ -20,6 +20,13 @@ use crate::{Params, Problem, Solution};
 /// objects to have been in the views they were found in.
 const SAME_SCENE_SHARE: f64 = 0.5;
 
+/// A search apart gives way to one on the solve's thread once this many
+/// `rigid_full_every` periods have passed without a full search. Not 2:
+/// on two cores with both feeds at 30 Hz a search apart at nice 19 can
+/// take longer than a period, and a solve that gives way to it takes a
+/// full search's time.
+const OVERDUE_PERIODS: usize = 5;
+
 /// The track ids of the two views a full search searched.
 #[derive(Debug, Clone, Default)]
 pub(super) struct SceneIds {
@@ -78,11 +85,10 @@ impl RigidLive {
         let same_scene = self.scene.holds(human, robot);
         let full_every = params.live.rigid_full_every;
         let due = self.resumed_solves + 1 >= full_every;
-        // A search apart still running a whole period after it fell due
-        // (its thread starved by a busy machine, say) gives way to one on
-        // this thread: a wrong motion lasts no more than twice as long as
-        // without searches apart.
-        let overdue = self.resumed_solves + 1 >= 2 * full_every;
+        // A search apart still running long after it fell due (its thread
+        // starved by a busy machine) gives way to one on this thread, so
+        // that a wrong motion cannot last for ever.
+        let overdue = self.resumed_solves + 1 >= OVERDUE_PERIODS * full_every;
         if due
             && same_scene
             && params.live.rigid_full_apart
