@@ -87,7 +87,7 @@ pub struct LiveParams {
     pub rigid_full_every: usize,
     /// `rigid`: the full search that falls due runs on a thread of its
     /// own while solves go on resuming, and the first solve after it ends
-    /// takes up its motions (one still running five periods after the
+    /// takes up its motions (one still running two periods after the
     /// last full search gives way to a search in the solve); `false`: it
     /// runs in the solve that falls due, which then takes as long as a
     /// full search.

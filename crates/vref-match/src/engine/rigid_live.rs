@@ -21,11 +21,9 @@ use crate::{Params, Problem, Solution};
 const SAME_SCENE_SHARE: f64 = 0.5;
 
 /// A search apart gives way to one on the solve's thread once this many
-/// `rigid_full_every` periods have passed without a full search. Not 2:
-/// on two cores with both feeds at 30 Hz a search apart at nice 19 can
-/// take longer than a period, and a solve that gives way to it takes a
-/// full search's time.
-const OVERDUE_PERIODS: usize = 5;
+/// `rigid_full_every` periods have passed without a full search: a wrong
+/// motion lasts at most twice as many solves as without searches apart.
+const OVERDUE_PERIODS: usize = 2;
 
 /// The track ids of the two views a full search searched.
 #[derive(Debug, Clone, Default)]
