@@ -296,23 +296,29 @@ fn live_rigid_runs_the_due_full_search_apart_while_solves_resume() {
     );
 }
 
-#[test]
-fn a_search_apart_overtaken_by_a_changed_scene_is_left_behind() {
-    // 64 objects at 2 cm: the search apart takes several times a resumed
-    // solve, so it is still running when the changed scene is solved (on
-    // a machine where it is not, this test passes without testing that).
-    let scene = RigidScene::with_noise(64, 9, 0.02).unwrap();
+/// An engine on `scene` (`rigid_full_every` 2) whose due full search has
+/// just started apart: a full search, then two solves with one object
+/// moved, both resumed.
+fn search_apart_started(scene: &RigidScene) -> Engine {
     let mut params = Params::default();
     params.live.rigid_full_every = 2;
     let mut engine = rigid_live(params, &scene.human, &scene.robot);
     engine.solve().unwrap();
-    // The second solve after a full search is due (`rigid_full_every` 2).
     for step in 0..2 {
         let moved = scene.moved(step, 3).unwrap();
         engine.update(Side::Human, &moved.human).unwrap();
         engine.solve().unwrap();
         assert!(engine.resumed(), "the due search runs apart");
     }
+    engine
+}
+
+#[test]
+fn a_search_apart_overtaken_by_a_changed_scene_is_left_behind() {
+    // 64 objects at 2 cm: the search apart takes several times a resumed
+    // solve, so it is still running when the changed scene is solved (on
+    // a machine where it is not, this test passes without testing that).
+    let mut engine = search_apart_started(&RigidScene::with_noise(64, 9, 0.02).unwrap());
 
     // Another scene's human view, nothing in common with the robot's: the
     // solve searches on its own thread, and the search apart (of the
@@ -382,18 +388,7 @@ const SEARCH_WITHIN: std::time::Duration = std::time::Duration::from_secs(60);
 
 #[test]
 fn an_ended_search_apart_asks_for_a_solve_though_no_view_changed() {
-    let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
-    let mut params = Params::default();
-    params.live.rigid_full_every = 2;
-    let mut engine = rigid_live(params, &scene.human, &scene.robot);
-    engine.solve().unwrap();
-    // The second solve after a full search is due (`rigid_full_every` 2).
-    for step in 0..2 {
-        let moved = scene.moved(step, 3).unwrap();
-        engine.update(Side::Human, &moved.human).unwrap();
-        engine.solve().unwrap();
-        assert!(engine.resumed(), "the due search runs apart");
-    }
+    let mut engine = search_apart_started(&RigidScene::with_noise(16, 4, 0.02).unwrap());
     // Neither view changes again: a scene held still must still get what
     // the search apart found.
     let started = std::time::Instant::now();
