@@ -237,21 +237,22 @@ fn live_rigid_resumes_from_the_last_motions_while_they_explain_the_scene() {
     assert_eq!(got, fresh(&other.human, &scene.robot, Method::Rigid));
 }
 
-/// Seven solves of `scene`, one object moved before each: whether each
-/// resumed, and the full searches in all. A search apart is waited for
-/// after each solve, so that it ends before the next whatever the
-/// machine's speed: the same answers every run.
-fn seven_moves(params: Params, scene: &RigidScene) -> (Vec<bool>, u64) {
-    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+/// Seven solves of `scene` by `engine`, one object moved before each:
+/// whether each resumed. With `settle` a search apart is waited for after
+/// each solve, so that it ends before the next whatever the machine's
+/// speed: the same answers every run.
+fn seven_moves(engine: &mut Engine, scene: &RigidScene, settle: bool) -> Vec<bool> {
     let mut resumed = Vec::new();
     for step in 0..7 {
         let moved = scene.moved(step, 11 + step as u64).unwrap();
         engine.update(Side::Human, &moved.human).unwrap();
         engine.solve().unwrap();
         resumed.push(engine.resumed());
-        engine.settle();
+        if settle {
+            engine.settle();
+        }
     }
-    (resumed, engine.full_searches())
+    resumed
 }
 
 #[test]
@@ -260,7 +261,9 @@ fn live_rigid_searches_in_full_once_every_rigid_full_every_solves() {
     let mut params = Params::default();
     params.live.rigid_full_every = 3;
     params.live.rigid_full_apart = false;
-    let (resumed, searches) = seven_moves(params, &scene);
+    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+    let resumed = seven_moves(&mut engine, &scene, true);
+    let searches = engine.full_searches();
     assert_eq!(
         resumed,
         [false, true, true, false, true, true, false],
@@ -284,7 +287,9 @@ fn live_rigid_runs_the_due_full_search_apart_while_solves_resume() {
     let mut params = Params::default();
     params.live.rigid_full_every = 3;
     assert!(params.live.rigid_full_apart, "the default");
-    let (resumed, searches) = seven_moves(params, &scene);
+    let mut engine = rigid_live(params, &scene.human, &scene.robot);
+    let resumed = seven_moves(&mut engine, &scene, true);
+    let searches = engine.full_searches();
     assert_eq!(
         resumed,
         [false, true, true, true, true, true, true],
@@ -417,13 +422,7 @@ fn a_search_apart_long_overdue_gives_way_to_one_on_the_solve_thread() {
     params.live.rigid_full_every = 3;
     let mut engine = rigid_live(params, &scene.human, &scene.robot);
     engine.on_search_thread(starve);
-    let mut resumed = Vec::new();
-    for step in 0..7 {
-        let moved = scene.moved(step, 11 + step as u64).unwrap();
-        engine.update(Side::Human, &moved.human).unwrap();
-        engine.solve().unwrap();
-        resumed.push(engine.resumed());
-    }
+    let resumed = seven_moves(&mut engine, &scene, false);
     // Seven quick solves take far less than the starved search's 3 s (on
     // a machine where they do not, the search apart is taken up instead
     // and this fails).
