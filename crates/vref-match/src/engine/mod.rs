@@ -263,10 +263,10 @@ impl Engine {
             Tier::Exact => self.params,
             Tier::Live => self.params.for_live(),
         };
+        let ids = |objects: &[view::Tracked]| objects.iter().map(|o| o.id).collect::<Vec<_>>();
+        let (human_ids, robot_ids) = (ids(&self.human.objects), ids(&self.robot.objects));
         let solution = if self.method == Method::Rigid && self.tier == Tier::Live {
-            let ids = |objects: &[view::Tracked]| objects.iter().map(|o| o.id).collect::<Vec<_>>();
-            let (human, robot) = (ids(&self.human.objects), ids(&self.robot.objects));
-            self.rigid.solve(&problem, &params, &human, &robot)
+            self.rigid.solve(&problem, &params, &human_ids, &robot_ids)
         } else {
             solve_with(self.method, &problem, &params, options)?
         };
@@ -274,8 +274,8 @@ impl Engine {
         self.human_in_spatial = (0..n).map(Some).collect();
         self.robot_in_spatial = (0..m).map(Some).collect();
         self.solved = Some(Solved {
-            human_ids: self.human.objects.iter().map(|o| o.id).collect(),
-            robot_ids: self.robot.objects.iter().map(|o| o.id).collect(),
+            human_ids,
+            robot_ids,
             solution,
         });
         self.dirty = false;

@@ -132,17 +132,15 @@ impl RigidLive {
     /// ended (with `wait`, once it ends), unless a full search on the
     /// solve's own thread came after it started.
     pub(super) fn take_up(&mut self, wait: bool) {
-        let Some(search) = &self.search else {
+        let Some(track) = self.search.as_ref().and_then(|s| s.ended(wait)) else {
             return;
         };
-        let Some(track) = search.ended(wait) else {
-            return;
-        };
-        let current = search.generation == self.full_searches;
         let Some(search) = self.search.take() else {
             return;
         };
-        if current && let Some(track) = track {
+        if search.generation == self.full_searches
+            && let Some(track) = track
+        {
             self.track = Some(track);
             self.scene = search.scene;
             self.resumed_solves = 0;
