@@ -102,16 +102,20 @@ pub(super) fn search(
         } else {
             &mut rng
         };
-        let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
-            let (dh, dr) = (human_d[i * n + j], robot_d[a * m + b]);
-            i != j && a != b && dh > min_edge && (dh - dr).abs() <= tolerance
+        let edges = Edges {
+            human: &human_d,
+            robot: &robot_d,
+            n,
+            m,
+            tolerance,
+            min_edge,
         };
         let mut scored = 0;
         let mut attempts = 0;
 
         while scored < rp.hypotheses && attempts < max_attempts {
             attempts += 1;
-            let Some(s) = draw_sample(rng, &human_order, &candidates, &fits, &mut consistent)
+            let Some(s) = draw_sample(rng, &human_order, &candidates, &edges, &mut consistent)
             else {
                 continue;
             };
@@ -191,9 +195,13 @@ pub(super) fn chance_inliers(
     }
     let tolerance = 3.0 * costs.typical;
     let (human_d, robot_d) = (distances(hp), distances(rpos));
-    let fits = |(i, a): (usize, usize), (j, b): (usize, usize)| {
-        let (dh, dr) = (human_d[i * n + j], robot_d[a * m + b]);
-        i != j && a != b && (dh - dr).abs() <= tolerance
+    let edges = Edges {
+        human: &human_d,
+        robot: &robot_d,
+        n,
+        m,
+        tolerance,
+        min_edge: f64::NEG_INFINITY,
     };
     let probes = probe_points(hp);
     let side = Side::of(rpos);
@@ -206,7 +214,7 @@ pub(super) fn chance_inliers(
         if drawn >= samples {
             break;
         }
-        let Some(s) = draw_sample(&mut rng, &human_order, &candidates, &fits, &mut consistent)
+        let Some(s) = draw_sample(&mut rng, &human_order, &candidates, &edges, &mut consistent)
         else {
             continue;
         };
@@ -229,13 +237,15 @@ pub(super) fn chance_inliers(
             continue;
         };
         let refined = optimise_locally(costs, rp, vec![(score, motion, pairs)], &mut scratch);
-        let Some(&(_, motion, _)) = refined.first() else {
+        // The local optimisation's score is the greedy pass's own, to the
+        // bit: no second pass.
+        let Some(&(score, motion, _)) = refined.first() else {
             continue;
         };
         if best.is_some_and(|b| same_motion(&motion, b, &probes, 2.0 * costs.typical)) {
             continue;
         }
-        counts.push(score_of(costs, rp, &motion));
+        counts.push(score);
     }
     counts
 }
@@ -317,16 +327,45 @@ pub(super) fn explained(
     .unwrap_or_default()
 }
 
+/// Which two pairs may share a sample: the human objects' distance must
+/// be usable as an edge, and the robot objects' must agree with it.
+struct Edges<'a> {
+    /// Row-major distances between the human objects, and the robot's.
+    human: &'a [f64],
+    robot: &'a [f64],
+    n: usize,
+    m: usize,
+    /// How far two distances may disagree.
+    tolerance: f64,
+    /// Human edges this short or shorter are not used.
+    min_edge: f64,
+}
+
+impl Edges<'_> {
+    /// The distance between human objects `i` and `j` where it may be a
+    /// sample's edge.
+    fn human_edge(&self, i: usize, j: usize) -> Option<f64> {
+        let d = self.human[i * self.n + j];
+        (i != j && d > self.min_edge).then_some(d)
+    }
+
+    /// Whether robot objects `a` and `b` are distinct and as far apart as
+    /// a human edge of length `d`.
+    fn agrees(&self, d: f64, a: usize, b: usize) -> bool {
+        a != b && (d - self.robot[a * self.m + b]).abs() <= self.tolerance
+    }
+}
+
 /// One sample of three candidate pairs, by guided sampling: the second and
 /// third pairs are drawn only among the candidates whose distances agree
-/// with the pairs drawn before (`fits`), so that a right first pair is
+/// with the pairs drawn before (`edges`), so that a right first pair is
 /// likely to grow into a right sample even when a row has many look-alike
 /// candidates. `None` when a row has no consistent candidate.
 fn draw_sample(
     rng: &mut SplitMix,
     human_order: &[usize],
     candidates: &[Vec<usize>],
-    fits: &impl Fn((usize, usize), (usize, usize)) -> bool,
+    edges: &Edges<'_>,
     consistent: &mut Vec<usize>,
 ) -> Option<[(usize, usize); 3]> {
     let n = human_order.len();
@@ -335,12 +374,19 @@ fn draw_sample(
     let mut s = [first; 3];
     for k in 1..3 {
         let row = human_order[rng.below(n)];
+        // The human edges to the pairs drawn before are the row's, not each
+        // candidate's: checked once (most samples fail here in scenes
+        // whose tolerance is wide against their extent).
+        let mut before = [(0.0, 0); 2];
+        for (b, &(i, a)) in before.iter_mut().zip(&s[..k]) {
+            *b = (edges.human_edge(i, row)?, a);
+        }
         consistent.clear();
         consistent.extend(
             candidates[row]
                 .iter()
                 .copied()
-                .filter(|&col| s[..k].iter().all(|&p| fits(p, (row, col)))),
+                .filter(|&col| before[..k].iter().all(|&(d, a)| edges.agrees(d, a, col))),
         );
         if consistent.is_empty() {
             return None;
