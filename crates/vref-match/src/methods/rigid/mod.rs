@@ -326,16 +326,18 @@ fn chance_costs(
     }
     let views = rp.chance_rows.div_ceil(n).clamp(1, MAX_NULL_VIEWS);
     let mut out = Vec::with_capacity(views * n);
-    let mut row = vec![0.0; problem.m];
+    let mut buf = Vec::with_capacity(problem.m);
     for v in 0..views {
         let null = coincidence::null_view(problem, rp.seed.wrapping_add(v as u64));
         let mut null_costs = Costs::new(&null, log_g, spacing, rp);
         if let Some(noise) = costs.rays.as_ref().map(|r| r.noise) {
             null_costs = null_costs.with_noise(noise);
         }
+        // The row's cheapest pair, to the bit what scanning the row finds,
+        // with fewer logarithms.
         for i in 0..n {
-            null_costs.row(i, motion, &mut row);
-            out.push(row.iter().copied().fold(f64::INFINITY, f64::min));
+            let [(cheapest, _), _] = null_costs.cheapest_two(i, motion, f64::INFINITY, &mut buf);
+            out.push(cheapest);
         }
     }
     out.sort_by(f64::total_cmp);
