@@ -681,3 +681,66 @@ impl SplitMix {
         (self.next() % bound.max(1) as u64) as usize
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use nalgebra::Point3;
+
+    use super::{Edges, SplitMix, distances, draw_sample};
+
+    fn cloud(rng: &mut SplitMix, k: usize) -> Vec<Point3<f64>> {
+        let mut unit = || (rng.next() >> 11) as f64 / (1u64 << 53) as f64;
+        (0..k)
+            .map(|_| Point3::new(unit(), 0.5 * unit(), 0.2 * unit()))
+            .collect()
+    }
+
+    /// Every two pairs of a drawn sample use a human edge longer than the
+    /// shortest allowed and robot objects as far apart within the
+    /// tolerance; and a row without such a candidate ends the draw.
+    #[test]
+    fn a_sample_keeps_its_distances_and_its_edges() {
+        let mut rng = SplitMix(5);
+        let (n, m) = (12, 14);
+        let (human, robot) = (cloud(&mut rng, n), cloud(&mut rng, m));
+        let (human_d, robot_d) = (distances(&human), distances(&robot));
+        let order: Vec<usize> = (0..n).collect();
+        let candidates: Vec<Vec<usize>> = (0..n)
+            .map(|i| (0..6).map(|k| (i + 3 * k) % m).collect())
+            .collect();
+        let (tolerance, min_edge) = (0.15, 0.2);
+        let edges = Edges {
+            human: &human_d,
+            robot: &robot_d,
+            n,
+            m,
+            tolerance,
+            min_edge,
+        };
+        let mut consistent = Vec::new();
+        let (mut drawn, mut failed) = (0, 0);
+        for _ in 0..2000 {
+            let Some(s) = draw_sample(&mut rng, &order, &candidates, &edges, &mut consistent)
+            else {
+                failed += 1;
+                continue;
+            };
+            drawn += 1;
+            for (x, &(i, a)) in s.iter().enumerate() {
+                assert!(candidates[i].contains(&a), "{s:?}");
+                for &(j, b) in &s[x + 1..] {
+                    let (dh, dr) = (human_d[i * n + j], robot_d[a * m + b]);
+                    assert!(i != j && a != b, "{s:?}");
+                    assert!(dh > min_edge, "edge {dh} in {s:?}");
+                    assert!((dh - dr).abs() <= tolerance, "{dh} against {dr} in {s:?}");
+                }
+            }
+        }
+        assert!(
+            drawn > 100 && failed > 100,
+            "drawn {drawn}, failed {failed}"
+        );
+    }
+}
