@@ -85,6 +85,7 @@ proptest! {
                 prop_assert_eq!(score.precision, 1.0, "{} on {:?}", method, raw);
                 let mut sure = params();
                 sure.rigid.abstain_share = 0.0;
+                sure.rigid.abstain_share_evident = 0.0;
                 let problem = Problem::new(&pair.human, &pair.robot, sure.beta).unwrap();
                 let pairs = solve(method, &problem, &sure).unwrap().id_pairs(&pair.human, &pair.robot);
                 let score = score_scene(&ids, &pairs, &pair.ground_truth);

@@ -162,6 +162,28 @@ pub(crate) fn solve_from(
     // them all: (raw share, row, partner).
     let mut withdrawn: Option<(f64, usize, usize)> = None;
     let disputed = p_best < rp.abstain_motion;
+    let fit = motion
+        .as_ref()
+        .map_or(0.0, |t| assumed_fit(&costs, assumed, rp, t));
+    let measures_of = |assignment: &[Option<usize>]| coincidence::Measures {
+        significance,
+        margin,
+        share: assignment.iter().flatten().count() as f64 / n.min(m).max(1) as f64,
+        fit,
+    };
+    // Withholding a disputed partner trades accuracy for precision. A
+    // motion far above chance is disputed by rivals over a few rows of the
+    // scene it explains, and those partners are mostly right: on the
+    // training files a lower share there raised sim mrc's accuracy in
+    // every sampler seed tried, and let about as many unrelated views
+    // through (docs/method.md).
+    let evident = rp.abstain_evidence < f64::INFINITY
+        && coincidence::evidence(&measures_of(&assignment), rp) >= rp.abstain_evidence;
+    let abstain_share = if evident {
+        rp.abstain_share_evident
+    } else {
+        rp.abstain_share
+    };
     for i in 0..n {
         let against: f64 = rivals
             .iter()
@@ -183,7 +205,7 @@ pub(crate) fn solve_from(
         if let Some(j) = assignment[i]
             && disputed
             && !agrees
-            && raw < rp.abstain_share
+            && raw < abstain_share
         {
             if withdrawn.is_none_or(|(best, _, _)| raw > best) {
                 withdrawn = Some((raw, i, j));
@@ -204,15 +226,7 @@ pub(crate) fn solve_from(
     // significance, its margin, how much of the scene it pairs and how
     // well, each of which alone lets through unrelated views that real
     // ones resemble) is low: docs/method.md, "Coincidence".
-    let paired = assignment.iter().filter(|a| a.is_some()).count();
-    let measures = coincidence::Measures {
-        significance,
-        margin,
-        share: paired as f64 / n.min(m).max(1) as f64,
-        fit: motion
-            .as_ref()
-            .map_or(0.0, |t| assumed_fit(&costs, assumed, rp, t)),
-    };
+    let measures = measures_of(&assignment);
     let significant = !rp.chance_rule || coincidence::evidence(&measures, rp) >= rp.evidence_floor;
     for (c, a) in confidence.iter_mut().zip(&assignment) {
         *c = rp.calibration.probability(*c, a.is_none(), margin);

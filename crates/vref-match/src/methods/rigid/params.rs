@@ -93,6 +93,14 @@ pub struct RigidParams {
     /// runner-up pairs the row otherwise). A row share lowered by look-alike
     /// neighbours alone is not a dispute between motions.
     pub abstain_motion: f64,
+    /// A motion whose evidence against chance (`coincidence::evidence`,
+    /// every partner it assigns counted in its share) reaches this
+    /// withholds a disputed partner only below `abstain_share_evident`
+    /// instead of `abstain_share`; infinite: never.
+    pub abstain_evidence: f64,
+    /// The raw share below which a disputed partner of a motion whose
+    /// evidence reaches `abstain_evidence` is not given.
+    pub abstain_share_evident: f64,
     /// When abstention would leave a scene without any partner, the most
     /// confident disputed partner is given all the same: an empty answer is
     /// precision 0 and tells the robot nothing.
@@ -164,6 +172,8 @@ impl Default for RigidParams {
             rivals: 7,
             abstain_share: 0.65,
             abstain_motion: 0.95,
+            abstain_evidence: 6.0,
+            abstain_share_evident: 0.55,
             never_empty: true,
             same_side: true,
             chance_samples: 32,
@@ -268,11 +278,23 @@ impl RigidParams {
                 expected: "in [0, 1]",
             });
         }
-        if !(0.0..=1.0).contains(&self.abstain_share) {
+        for (name, value) in [
+            ("rigid.abstain_share", self.abstain_share),
+            ("rigid.abstain_share_evident", self.abstain_share_evident),
+        ] {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(MatchError::BadParameter {
+                    name,
+                    value,
+                    expected: "in [0, 1]",
+                });
+            }
+        }
+        if self.abstain_evidence.is_nan() {
             return Err(MatchError::BadParameter {
-                name: "rigid.abstain_share",
-                value: self.abstain_share,
-                expected: "in [0, 1]",
+                name: "rigid.abstain_evidence",
+                value: self.abstain_evidence,
+                expected: "a number (inf: never)",
             });
         }
         let c = &self.calibration;
