@@ -8,7 +8,7 @@
 # ECE <= 0.05, accuracy >= best other method + 0.03) and the share of `ok`
 # answers on unrelated views (target <= 1%; not all targets are met:
 # docs/method.md says which). It fails too if that share is above the
-# pinned OK_SHARE (today's 2.5% plus 0.5).
+# pinned OK_SHARE (today's 2.6% plus 0.5).
 #
 #   bash tools/carryover-data.sh && bash tools/rigid-carryover.sh
 set -euo pipefail
@@ -20,15 +20,15 @@ python3 - "$work" <<'PY'
 import json, os, sys
 # set: (accuracy, precision, ECE) pinned
 pins = {
-    "moi1": (0.967, 0.973, 0.018), "moi2": (0.967, 0.959, 0.020),
-    "moi3": (0.984, 0.985, 0.026), "moi4": (0.966, 0.973, 0.024),
-    "moi5": (0.985, 0.984, 0.018), "mrc1": (0.960, 0.973, 0.027),
-    "mrc2": (0.934, 0.968, 0.038), "mrc3": (0.955, 0.974, 0.050),
-    "mrc4": (0.912, 0.961, 0.052), "mrc5": (0.973, 0.979, 0.028),
-    "moi-ext-report": (0.915, 0.938, 0.040), "mrc-ext-report": (0.966, 0.964, 0.028),
+    "moi1": (0.967, 0.970, 0.014), "moi2": (0.967, 0.959, 0.020),
+    "moi3": (0.984, 0.985, 0.025), "moi4": (0.976, 0.982, 0.025),
+    "moi5": (0.985, 0.984, 0.018), "mrc1": (0.956, 0.960, 0.022),
+    "mrc2": (0.958, 0.968, 0.038), "mrc3": (0.955, 0.974, 0.051),
+    "mrc4": (0.912, 0.955, 0.048), "mrc5": (0.973, 0.979, 0.028),
+    "moi-ext-report": (0.915, 0.938, 0.040), "mrc-ext-report": (0.959, 0.958, 0.024),
     "bop-table-report": (0.990, 0.990, 0.015), "bop-floor-report": (0.990, 0.990, 0.013),
 }
-OK_SHARE = 0.030
+OK_SHARE = 0.031
 work = sys.argv[1]
 failed = []
 for name in ["method-vrefsim.json", "method-external.json", "method-bop.json"]:
