@@ -148,13 +148,19 @@ fn method_names_round_trip_and_unknown_names_are_refused() {
 #[test]
 fn bad_parameters_are_refused_by_name() {
     type Spoil = fn(&mut Params);
-    let cases: [(&str, Spoil); 6] = [
+    let cases: [(&str, Spoil); 8] = [
         ("beta", |p| p.beta = 0.0),
         ("beta", |p| p.beta = f64::NAN),
         ("rrwm.c", |p| p.rrwm.c = 1.5),
         ("paper.alpha", |p| p.paper.alpha = -0.1),
         ("rrwm.amplification", |p| p.rrwm.amplification = 1000.0),
         ("sm.max_iter", |p| p.sm.max_iter = 0),
+        ("rigid.abstain_share_evident", |p| {
+            p.rigid.abstain_share_evident = 1.5
+        }),
+        ("rigid.abstain_evidence", |p| {
+            p.rigid.abstain_evidence = f64::NAN
+        }),
     ];
     for (name, spoil) in cases {
         let mut p = Params::default();
@@ -165,6 +171,12 @@ fn bad_parameters_are_refused_by_name() {
         }
     }
     assert!(Params::default().validate().is_ok());
+    let mut never = Params::default();
+    never.rigid.abstain_evidence = f64::INFINITY;
+    assert!(
+        never.validate().is_ok(),
+        "an infinite abstain_evidence means never"
+    );
 }
 
 #[test]

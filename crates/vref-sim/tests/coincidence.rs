@@ -6,9 +6,9 @@
 //! The line held: at most 4% of answers `ok` over these sets (42 of 1374,
 //! 3.1%, with the evidence rule whose fit is measured under the assumed
 //! noise: docs/method.md, "Coincidence", and abstention eased for motions
-//! far above chance; 40, 2.9%, without that easing; 52, 3.8%, with the fit
-//! under the scene's own noise; 67, 4.9%, without a fit term; 122, 8.9%, with the
-//! rule of two thresholds; no random cloud is answered `ok`, 2-18% of the
+//! far above chance; 40, 2.9%, without that easing; 52, 3.8%, with the
+//! fit under the scene's own noise; 67, 4.9%, without a fit term; 122,
+//! 8.9%, with the rule of two thresholds; no random cloud is answered `ok`, 2-18% of the
 //! answers in the sets of scenes of one preset are).
 //! Issue 15's target, 1%, is not met on these sets; its test is ignored:
 //! `cargo test --release -p vref-sim --test coincidence -- --ignored`.
