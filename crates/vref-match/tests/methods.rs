@@ -62,6 +62,28 @@ fn without_robot(pair: &ScenePair, keep: usize) -> ScenePair {
     .unwrap()
 }
 
+/// The largest disagreement between the human and the robot distance of
+/// any two of `pairs` (human id, robot id).
+fn worst_disagreement(pair: &ScenePair, pairs: &[(u64, u64)]) -> f64 {
+    let at = |graph: &vref_scene::SceneGraph, id: u64| {
+        graph
+            .objects()
+            .iter()
+            .find(|o| o.id == id)
+            .unwrap()
+            .position
+    };
+    let mut worst: f64 = 0.0;
+    for (a, &(h1, r1)) in pairs.iter().enumerate() {
+        for &(h2, r2) in &pairs[a + 1..] {
+            let human = (at(&pair.human, h1) - at(&pair.human, h2)).norm();
+            let robot = (at(&pair.robot, r1) - at(&pair.robot, r2)).norm();
+            worst = worst.max((human - robot).abs());
+        }
+    }
+    worst
+}
+
 fn scene() -> impl Strategy<Value = (RawScene, u64, u64)> {
     (raw_scene(4..=12), any::<u64>(), any::<u64>())
 }
@@ -90,6 +112,15 @@ proptest! {
                 let pairs = solve(method, &problem, &sure).unwrap().id_pairs(&pair.human, &pair.robot);
                 let score = score_scene(&ids, &pairs, &pair.ground_truth);
                 prop_assert_eq!(score.accuracy, 1.0, "{} without abstention on {:?}", method, raw);
+            } else if method == Method::Clipper && score.accuracy < 1.0 {
+                // `clipper` weighs distances alone, and its ascent is local:
+                // where another labelling of a few objects keeps every
+                // distance within its tolerance, it can settle on that
+                // cluster (the regression file holds a scene of five where
+                // it does). What it gives is still a consistent cluster.
+                let tolerance = params().clipper.epsilon * (params().beta / 2.0).sqrt();
+                let worst = worst_disagreement(&pair, &id_pairs(method, &pair));
+                prop_assert!(worst <= tolerance, "clipper on {:?}: distances disagree by {}", raw, worst);
             } else {
                 prop_assert_eq!(score.accuracy, 1.0, "{} on {:?}", method, raw);
             }
