@@ -422,6 +422,50 @@ fn every_simd_path_gives_the_exact_tier_the_same_answers() {
     }
 }
 
+/// `rigid`'s pair costs run in AVX-512 or baseline code by what the CPU
+/// has; each lane is the same IEEE arithmetic, so every path must give the
+/// same answers and confidences to the bit. Scenes of the mrc preset are
+/// ones no motion settles: the whole search runs.
+#[test]
+fn every_simd_path_gives_rigid_the_same_answers_to_the_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("mrc.jsonl");
+    let scenes = scenes.to_str().unwrap();
+    vref(
+        &[
+            "scenes", "--preset", "mrc", "--count", "6", "--seed", "7", "--out", scenes,
+        ],
+        Duration::from_secs(60),
+    )
+    .ok();
+    let answers = |cap: &str| {
+        let out = dir.path().join(format!("rigid-{cap}.jsonl"));
+        let out = out.to_str().unwrap().to_owned();
+        let args = [
+            "eval",
+            "--dataset",
+            scenes,
+            "--method",
+            "rigid",
+            "--tier",
+            "live",
+            "--answers",
+            &out,
+        ];
+        support::vref_with(
+            std::path::Path::new(env!("CARGO_BIN_EXE_vref")),
+            &args,
+            &[("VREF_SIMD", cap)],
+            Duration::from_secs(120),
+        )
+        .ok();
+        std::fs::read_to_string(&out).unwrap()
+    };
+    let widest = answers("avx512");
+    assert!(json_lines(&widest).len() > 20);
+    assert_eq!(answers("baseline"), widest);
+}
+
 #[test]
 fn a_remote_query_to_nothing_says_where_it_tried_once_without_zenohs_noise() {
     let port = std::net::TcpListener::bind("127.0.0.1:0")

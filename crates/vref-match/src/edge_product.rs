@@ -190,32 +190,12 @@ mod simd {
     // `sums` turns one vector per row into one vector of rows.
     const _: () = assert!(ROWS == LANES && LANES == 4);
 
-    /// The widest code path allowed: `VREF_SIMD=baseline` or `avx2` caps
-    /// it (to time or check the narrower paths on a CPU that has more);
-    /// unset or anything else allows what the CPU has.
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-    enum Cap {
-        Baseline,
-        Avx2,
-        Avx512,
-    }
-
-    fn cap() -> Cap {
-        static CAP: std::sync::OnceLock<Cap> = std::sync::OnceLock::new();
-        *CAP.get_or_init(|| match std::env::var("VREF_SIMD").as_deref() {
-            Ok("baseline") => Cap::Baseline,
-            Ok("avx2") => Cap::Avx2,
-            _ => Cap::Avx512,
-        })
-    }
-
     pub(super) fn available() -> bool {
-        // std caches the answer: this is an atomic load after the first.
-        cap() >= Cap::Avx2 && is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")
+        crate::cpu::avx2_fma()
     }
 
     pub(super) fn available_512() -> bool {
-        cap() >= Cap::Avx512 && available() && is_x86_feature_detected!("avx512f")
+        crate::cpu::avx512()
     }
 
     /// False, and nothing done, when the CPU lacks AVX-512F.

@@ -15,6 +15,7 @@ mod appearance;
 pub mod bench;
 mod calibration;
 mod candidates;
+mod cpu;
 mod distances;
 mod edge_product;
 pub mod engine;

@@ -182,11 +182,36 @@ impl Rays {
         }
     }
 
+    /// What human object `i`'s row is computed from, at `moved` under
+    /// `motion`, against every robot object (`xyz`: their positions by
+    /// coordinate), every slice cut to the row's length `m`.
+    fn row_inputs<'s>(
+        &'s self,
+        i: usize,
+        motion: &RigidMotion,
+        moved: &Point3<f64>,
+        xyz: &'s [Vec<f64>; 3],
+        m: usize,
+    ) -> RowInputs<'s> {
+        let (w, alpha) = self.human_ray(i, &motion.rotation);
+        RowInputs {
+            moved: [moved.x, moved.y, moved.z],
+            w,
+            alpha,
+            inv: 1.0 / self.lateral,
+            xyz: [&xyz[0][..m], &xyz[1][..m], &xyz[2][..m]],
+            u: [
+                &self.robot_u[0][..m],
+                &self.robot_u[1][..m],
+                &self.robot_u[2][..m],
+            ],
+            var: &self.robot_var[..m],
+        }
+    }
+
     /// [`Rays::half_distance2`] of human object `i`, at `moved`, against
     /// every robot object (`xyz`: their positions by coordinate), into
-    /// `out`: one pass over slices cut to one length, so that the bounds
-    /// are checked once per row, not per pair (the search computes
-    /// thousands of rows).
+    /// `out`: one vectorised pass (the search computes thousands of rows).
     fn half_lengths(
         &self,
         i: usize,
@@ -195,20 +220,55 @@ impl Rays {
         xyz: &[Vec<f64>; 3],
         out: &mut [f64],
     ) {
-        let m = out.len();
-        let (w, alpha) = self.human_ray(i, &motion.rotation);
-        let inv = 1.0 / self.lateral;
-        let (xs, ys, zs) = (&xyz[0][..m], &xyz[1][..m], &xyz[2][..m]);
-        let (ux, uy, uz) = (
-            &self.robot_u[0][..m],
-            &self.robot_u[1][..m],
-            &self.robot_u[2][..m],
-        );
-        let var = &self.robot_var[..m];
-        for k in 0..m {
-            let r = [moved.x - xs[k], moved.y - ys[k], moved.z - zs[k]];
-            out[k] = half_mahalanobis2(r, w, alpha, [ux[k], uy[k], uz[k]], var[k], inv);
+        let row = self.row_inputs(i, motion, moved, xyz, out.len());
+        #[cfg(target_arch = "x86_64")]
+        if crate::cpu::avx512() {
+            #[allow(unsafe_code)]
+            // SAFETY: the CPU has AVX-512F (checked just above), the only
+            // requirement of a `target_feature` function.
+            unsafe {
+                half_lengths_avx512(&row, out);
+            }
+            return;
         }
+        half_lengths_of(&row, out);
+    }
+
+    /// `row`'s half squared lengths into `scratch.lengths`, and in
+    /// `scratch.masks` a bit per pair (appearance `log_g`), set where a
+    /// lower bound of its cost is below `loosest`: one vectorised pass
+    /// without a logarithm, so that the scan that follows looks at the few
+    /// pairs that may be taken, not at every pair.
+    ///
+    /// The bound is the cost itself beyond the gate (untailed there), and
+    /// below it the tail's `tail / 2 ln(1 + x)`, `x = 2q / tail`, bounded by
+    /// `ln(1 + x) >= 2x / (2 + x)`, which is `q tail / (tail + q)`.
+    fn bounded_row(
+        &self,
+        row: &RowInputs<'_>,
+        log_g: &[f64],
+        loosest: f64,
+        scratch: &mut RowScratch,
+    ) {
+        let m = log_g.len();
+        scratch.lengths.resize(m, 0.0);
+        scratch.masks.resize(m.div_ceil(MASK_LANES), 0);
+        let bound = Bound {
+            tail: self.tail,
+            gate: self.gate,
+            loosest,
+        };
+        #[cfg(target_arch = "x86_64")]
+        if crate::cpu::avx512() {
+            #[allow(unsafe_code)]
+            // SAFETY: the CPU has AVX-512F (checked just above), the only
+            // requirement of a `target_feature` function.
+            unsafe {
+                bounded_row_avx512(row, log_g, bound, scratch);
+            }
+            return;
+        }
+        bounded_row_of(row, log_g, bound, scratch);
     }
 
     /// The cost of half a squared Mahalanobis length `q`.
@@ -227,6 +287,103 @@ impl Rays {
         let w = rotation * v;
         ([w.x, w.y, w.z], h / (self.lateral + h))
     }
+}
+
+/// What one row of [`Rays::half_lengths`] is computed from: the moved
+/// human object, its ray, and the robot objects by coordinate, every
+/// slice cut to one length.
+struct RowInputs<'s> {
+    moved: [f64; 3],
+    w: [f64; 3],
+    alpha: f64,
+    inv: f64,
+    xyz: [&'s [f64]; 3],
+    u: [&'s [f64]; 3],
+    var: &'s [f64],
+}
+
+/// A row's buffers in [`Costs::cheapest_two`], reused from row to row.
+#[derive(Default)]
+pub(super) struct RowScratch {
+    /// The row's costs, where there are no rays.
+    costs: Vec<f64>,
+    /// The row's half squared lengths, where there are.
+    lengths: Vec<f64>,
+    /// Bit `l` of mask `k`: whether pair `k * MASK_LANES + l` may be taken
+    /// ([`Rays::bounded_row`]).
+    masks: Vec<u8>,
+}
+
+/// The row's half squared lengths into `out`, a lane per robot object: no
+/// value depends on another, so vectors of any width give the same bits
+/// (IEEE operations, no fused multiply-add).
+#[inline(always)]
+fn half_lengths_of(row: &RowInputs<'_>, out: &mut [f64]) {
+    // Every slice cut to one length: no bounds checks in the loop, which
+    // would keep it from being vectorised.
+    let m = out.len();
+    let [mx, my, mz] = row.moved;
+    let (xs, ys, zs) = (&row.xyz[0][..m], &row.xyz[1][..m], &row.xyz[2][..m]);
+    let (ux, uy, uz) = (&row.u[0][..m], &row.u[1][..m], &row.u[2][..m]);
+    let var = &row.var[..m];
+    for k in 0..m {
+        let r = [mx - xs[k], my - ys[k], mz - zs[k]];
+        out[k] = half_mahalanobis2(r, row.w, row.alpha, [ux[k], uy[k], uz[k]], var[k], row.inv);
+    }
+}
+
+/// [`half_lengths_of`] in 512-bit vectors, eight robot objects at once.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn half_lengths_avx512(row: &RowInputs<'_>, out: &mut [f64]) {
+    half_lengths_of(row, out);
+}
+
+/// Pairs per mask of [`Rays::bounded_row`].
+const MASK_LANES: usize = 8;
+
+/// What [`Rays::bounded_row`] bounds a row's costs with.
+#[derive(Clone, Copy)]
+struct Bound {
+    tail: f64,
+    gate: f64,
+    loosest: f64,
+}
+
+#[inline(always)]
+fn bounded_row_of(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
+    let RowScratch { lengths, masks, .. } = scratch;
+    half_lengths_of(row, lengths);
+    let Bound {
+        tail,
+        gate,
+        loosest,
+    } = bound;
+    for ((mask, q), g) in masks
+        .iter_mut()
+        .zip(lengths.chunks(MASK_LANES))
+        .zip(log_g.chunks(MASK_LANES))
+    {
+        let mut bits = 0u8;
+        for (l, (&q, &g)) in q.iter().zip(g).enumerate() {
+            // Below the gate, `q tail / (tail + q) - g < loosest` multiplied
+            // out (`tail + q > 0`), without a division.
+            let may = if q >= gate {
+                q - g < loosest
+            } else {
+                q * tail < (loosest + g) * (tail + q)
+            };
+            bits |= u8::from(may) << l;
+        }
+        *mask = bits;
+    }
+}
+
+/// [`bounded_row_of`] in 512-bit vectors.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn bounded_row_avx512(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
+    bounded_row_of(row, log_g, bound, scratch);
 }
 
 /// Half of `r^T C^-1 r` for `C = I / inv + h w w^T + c u u^T` (`alpha`
@@ -350,10 +507,9 @@ impl<'a> Costs<'a> {
         i: usize,
         motion: &RigidMotion,
         below: f64,
-        buf: &mut Vec<f64>,
+        scratch: &mut RowScratch,
     ) -> [(f64, usize); 2] {
         let m = self.problem.m;
-        buf.resize(m, 0.0);
         let mut best = [(f64::INFINITY, usize::MAX); 2];
         let offer = |c: f64, j: usize, best: &mut [(f64, usize); 2]| {
             if c < best[0].0 {
@@ -364,8 +520,9 @@ impl<'a> Costs<'a> {
             }
         };
         let Some(rays) = self.rays.as_ref().filter(|r| r.tail > 0.0) else {
-            self.row(i, motion, buf);
-            for (j, &c) in buf.iter().enumerate() {
+            scratch.costs.resize(m, 0.0);
+            self.row(i, motion, &mut scratch.costs);
+            for (j, &c) in scratch.costs.iter().enumerate() {
                 if c < below {
                     offer(c, j, &mut best);
                 }
@@ -373,31 +530,36 @@ impl<'a> Costs<'a> {
             return best;
         };
         let moved = motion.apply(&self.problem.human_positions[i]);
-        rays.half_lengths(i, motion, &moved, &self.robot_xyz, buf);
         let log_g = &self.log_g[i * m..(i + 1) * m];
+        let row = rays.row_inputs(i, motion, &moved, &self.robot_xyz, m);
+        // Every pair that may be taken has its bound below this.
+        rays.bounded_row(&row, log_g, below + BOUND_MARGIN, scratch);
         let tail = rays.tail;
-        for (j, (&q, &g)) in buf.iter().zip(log_g).enumerate() {
-            if q >= rays.gate {
-                // Untailed beyond the gate, as `row` leaves it.
-                let c = q - g;
+        for (chunk, &mask) in scratch.masks.iter().enumerate() {
+            let mut bits = mask;
+            while bits != 0 {
+                let j = chunk * MASK_LANES + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let (q, g) = (scratch.lengths[j], log_g[j]);
+                if q >= rays.gate {
+                    // Untailed beyond the gate, as `row` leaves it.
+                    if q - g < below {
+                        offer(q - g, j, &mut best);
+                    }
+                    continue;
+                }
+                // The bound again, against what the pair must beat now
+                // that pairs were offered; multiplied out, without a
+                // division.
+                let x = 2.0 * q / tail;
+                let beat = below.min(best[1].0) + g + BOUND_MARGIN;
+                if tail * x >= beat * (2.0 + x) {
+                    continue;
+                }
+                let c = rays.robust(q) - g;
                 if c < below {
                     offer(c, j, &mut best);
                 }
-                continue;
-            }
-            // The tailed cost is `tail / 2 ln(1 + x)`, `x = 2q / tail`, and
-            // `ln(1 + x) >= 2x / (2 + x)` for `x >= 0`: a pair whose bound
-            // (less a margin for rounding) reaches what it would have to
-            // beat cannot be taken, and needs no logarithm. Compared
-            // multiplied out, without a division.
-            let x = 2.0 * q / tail;
-            let beat = below.min(best[1].0) + g + BOUND_MARGIN;
-            if tail * x >= beat * (2.0 + x) {
-                continue;
-            }
-            let c = rays.robust(q) - g;
-            if c < below {
-                offer(c, j, &mut best);
             }
         }
         best
@@ -454,7 +616,7 @@ mod tests {
 
     use nalgebra::Point3;
 
-    use super::{Costs, Rays};
+    use super::{Costs, Rays, RowScratch};
     use crate::methods::rigid::RigidParams;
     use crate::methods::rigid::search::SplitMix;
     use crate::rigid::RigidMotion;
@@ -581,7 +743,7 @@ mod tests {
             };
             let matrix = costs.matrix(Some(&motion));
             let mut row = vec![0.0; m];
-            let mut buf = Vec::new();
+            let mut buf = RowScratch::default();
             for i in 0..n {
                 costs.row(i, &motion, &mut row);
                 for below in [rp.unmatched_cost, 1.0, f64::INFINITY] {
@@ -614,5 +776,54 @@ mod tests {
             bounded > 100,
             "too few rows with two pairs below: {bounded}"
         );
+    }
+
+    /// The vector paths give the rows' lengths and masks to the bit, at
+    /// every length (whole vectors and remainders): they decide which pairs
+    /// the search looks at, so a difference would change answers by CPU.
+    #[test]
+    fn the_vector_rows_are_the_baseline_rows() {
+        let mut rng = SplitMix(5);
+        let rp = RigidParams::default();
+        let mut marked = 0;
+        for case in 0..40 {
+            let (n, m) = (3, 1 + rng.below(40));
+            let problem = scene(&mut rng, n, m, true);
+            let log_g = super::super::appearance_log_likelihood(&problem, 0.2, 0.1);
+            let costs = Costs::new(&problem, &log_g, 0.05, &rp);
+            let rays = costs
+                .rays
+                .as_ref()
+                .expect("a scene in front of its cameras");
+            let motion = RigidMotion {
+                rotation: *nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), 0.03).matrix(),
+                translation: Vector3::new(0.01, 0.0, 0.0),
+            };
+            for i in 0..n {
+                let moved = motion.apply(&problem.human_positions[i]);
+                let row = rays.row_inputs(i, &motion, &moved, &costs.robot_xyz, m);
+                let log_g = &log_g[i * m..(i + 1) * m];
+                let bound = super::Bound {
+                    tail: rays.tail,
+                    gate: rays.gate,
+                    loosest: rp.unmatched_cost,
+                };
+                let mut scalar = RowScratch::default();
+                scalar.lengths.resize(m, 0.0);
+                scalar.masks.resize(m.div_ceil(super::MASK_LANES), 0);
+                super::bounded_row_of(&row, log_g, bound, &mut scalar);
+                let mut dispatched = RowScratch::default();
+                rays.bounded_row(&row, log_g, rp.unmatched_cost, &mut dispatched);
+                assert_eq!(scalar.lengths, dispatched.lengths, "case {case} row {i}");
+                assert_eq!(scalar.masks, dispatched.masks, "case {case} row {i}");
+                marked += scalar.masks.iter().map(|b| b.count_ones()).sum::<u32>();
+                for (j, &q) in scalar.lengths.iter().enumerate() {
+                    let r = moved - problem.robot_positions[j];
+                    let (w, alpha) = rays.human_ray(i, &motion.rotation);
+                    assert_eq!(q, rays.half_distance2([r.x, r.y, r.z], w, alpha, j));
+                }
+            }
+        }
+        assert!(marked > 20, "too few pairs marked: {marked}");
     }
 }

@@ -340,7 +340,7 @@ fn chance_costs(
     }
     let views = rp.chance_rows.div_ceil(n).clamp(1, MAX_NULL_VIEWS);
     let mut out = Vec::with_capacity(views * n);
-    let mut buf = Vec::with_capacity(problem.m);
+    let mut buf = costs::RowScratch::default();
     for v in 0..views {
         let null = coincidence::null_view(problem, rp.seed.wrapping_add(v as u64));
         let mut null_costs = Costs::new(&null, log_g, spacing, rp);

@@ -4,7 +4,7 @@
 use nalgebra::Point3;
 
 use super::RigidParams;
-use super::costs::Costs;
+use super::costs::{Costs, RowScratch};
 use super::side::Side;
 use crate::Problem;
 use crate::rigid::RigidMotion;
@@ -529,7 +529,6 @@ fn greedy(
     let problem = costs.problem;
     let (n, m) = (problem.n, problem.m);
     scratch.gains.clear();
-    scratch.row.resize(m, 0.0);
     let mut bound = unmatched * n as f64;
     for i in 0..n {
         let [first, second] = costs.cheapest_two(i, motion, unmatched, &mut scratch.row);
@@ -564,7 +563,7 @@ fn greedy(
 /// Buffers reused by every [`greedy`] call of one search.
 #[derive(Default)]
 struct Scratch {
-    row: Vec<f64>,
+    row: RowScratch,
     gains: Vec<(f64, usize, usize)>,
     row_used: Vec<bool>,
     col_used: Vec<bool>,
