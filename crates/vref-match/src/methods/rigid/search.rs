@@ -112,7 +112,7 @@ pub(super) fn search(
         };
         let mut scored = 0;
         let mut attempts = 0;
-
+        let mut drawn = Vec::new();
         while scored < rp.hypotheses && attempts < max_attempts {
             attempts += 1;
             let Some(s) = draw_sample(rng, &human_order, &candidates, &edges, &mut consistent)
@@ -128,21 +128,25 @@ pub(super) fn search(
                 continue;
             }
             scored += 1;
-            // Only a hypothesis that can enter the kept few is scored fully.
-            let keep = rp.local_optimisations.max(1);
-            let beat = if top.len() < keep {
-                f64::NEG_INFINITY
+            let score = if shortcut {
+                // The shortcut round's kept motions matter only where it
+                // settles the scene, so until then a hypothesis is scored
+                // only as far as it could still be decisive.
+                drawn.push(motion);
+                greedy(costs, &motion, rp.unmatched_cost, decisive, &mut scratch).map(|(s, _)| s)
             } else {
-                top.last().map_or(f64::NEG_INFINITY, |(s, _, _)| *s)
+                admit(&mut top, keep, costs, rp, motion, &mut scratch, same)
             };
-            if let Some((score, pairs)) =
-                greedy(costs, &motion, rp.unmatched_cost, beat, &mut scratch)
-            {
-                keep_best(&mut top, keep, (score, motion, pairs), same);
-                if score >= decisive && scored >= decisive_after {
-                    settled = true;
-                    break;
+            if score.is_some_and(|s| s >= decisive) && scored >= decisive_after {
+                if shortcut {
+                    // It settles: the kept few are the ones scoring every
+                    // hypothesis of the round in turn keeps.
+                    for &motion in &drawn {
+                        admit(&mut top, keep, costs, rp, motion, &mut scratch, same);
+                    }
                 }
+                settled = true;
+                break;
             }
         }
         if shortcut && !settled {
@@ -166,6 +170,28 @@ pub(super) fn search(
     }
     let refined = optimise_locally(costs, rp, top, &mut scratch);
     found(rp, refined, same, tests).map(|f| Found { settled, ..f })
+}
+
+/// Scores `motion` and keeps it in `top` (the `keep` best distinct motions
+/// so far) if it enters: scored fully only while it can. Its score, or
+/// `None` when it was cut short.
+fn admit(
+    top: &mut Vec<Scored>,
+    keep: usize,
+    costs: &Costs<'_>,
+    rp: &RigidParams,
+    motion: RigidMotion,
+    scratch: &mut Scratch,
+    same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
+) -> Option<f64> {
+    let beat = if top.len() < keep {
+        f64::NEG_INFINITY
+    } else {
+        top.last().map_or(f64::NEG_INFINITY, |(s, _, _)| *s)
+    };
+    let (score, pairs) = greedy(costs, &motion, rp.unmatched_cost, beat, scratch)?;
+    keep_best(top, keep, (score, motion, pairs), same);
+    Some(score)
 }
 
 /// What a motion drawn by the sampler scores by chance in this scene: the
