@@ -128,22 +128,21 @@ pub(super) fn search(
                 continue;
             }
             scored += 1;
-            let score = if shortcut {
+            let score = if shortcut && scored > decisive_after {
                 // The shortcut round's kept motions matter only where it
-                // settles the scene, so until then a hypothesis is scored
-                // only as far as it could still be decisive.
+                // settles the scene, so once a decisive hypothesis would
+                // settle it, one is scored only as far as it could still
+                // be decisive.
                 drawn.push(motion);
                 greedy(costs, &motion, rp.unmatched_cost, decisive, &mut scratch).map(|(s, _)| s)
             } else {
                 admit(&mut top, keep, costs, rp, motion, &mut scratch, same)
             };
             if score.is_some_and(|s| s >= decisive) && scored >= decisive_after {
-                if shortcut {
-                    // It settles: the kept few are the ones scoring every
-                    // hypothesis of the round in turn keeps.
-                    for &motion in &drawn {
-                        admit(&mut top, keep, costs, rp, motion, &mut scratch, same);
-                    }
+                // It settles: the kept few are the ones scoring every
+                // hypothesis of the round in turn keeps.
+                for &motion in &drawn {
+                    admit(&mut top, keep, costs, rp, motion, &mut scratch, same);
                 }
                 settled = true;
                 break;
