@@ -350,6 +350,39 @@ fn durations_take_one_form_with_a_unit_and_bad_ones_are_named() {
     }
 }
 
+/// The text of `vref eval --answers` for `methods` on `scenes` in `tier`,
+/// run with `VREF_SIMD=cap`.
+fn answers_under_cap(
+    dir: &std::path::Path,
+    scenes: &str,
+    methods: &[&str],
+    tier: &str,
+    cap: &str,
+) -> String {
+    let out = dir.join(format!("answers-{cap}.jsonl"));
+    let out = out.to_str().unwrap().to_owned();
+    let mut args = vec![
+        "eval",
+        "--dataset",
+        scenes,
+        "--tier",
+        tier,
+        "--answers",
+        &out,
+    ];
+    for method in methods {
+        args.extend(["--method", method]);
+    }
+    support::vref_with(
+        std::path::Path::new(env!("CARGO_BIN_EXE_vref")),
+        &args,
+        &[("VREF_SIMD", cap)],
+        Duration::from_secs(120),
+    )
+    .ok();
+    std::fs::read_to_string(&out).unwrap()
+}
+
 /// The exact tier's product runs in AVX-512, AVX2 or baseline code by what
 /// the CPU has; `VREF_SIMD` caps it, so every path this CPU has can be
 /// checked end to end: all must give the same answers.
@@ -376,31 +409,14 @@ fn every_simd_path_gives_the_exact_tier_the_same_answers() {
     )
     .ok();
     let answers = |cap: &str| {
-        let out = dir.path().join(format!("answers-{cap}.jsonl"));
-        let out = out.to_str().unwrap().to_owned();
-        let args = [
-            "eval",
-            "--dataset",
+        let methods = ["paper", "rrwm", "sm"];
+        json_lines(&answers_under_cap(
+            dir.path(),
             scenes,
-            "--method",
-            "paper",
-            "--method",
-            "rrwm",
-            "--method",
-            "sm",
-            "--tier",
+            &methods,
             "exact",
-            "--answers",
-            &out,
-        ];
-        support::vref_with(
-            std::path::Path::new(env!("CARGO_BIN_EXE_vref")),
-            &args,
-            &[("VREF_SIMD", cap)],
-            Duration::from_secs(120),
-        )
-        .ok();
-        json_lines(&std::fs::read_to_string(&out).unwrap())
+            cap,
+        ))
     };
     let widest = answers("avx512");
     assert!(!widest.is_empty());
@@ -438,29 +454,7 @@ fn every_simd_path_gives_rigid_the_same_answers_to_the_bit() {
         Duration::from_secs(60),
     )
     .ok();
-    let answers = |cap: &str| {
-        let out = dir.path().join(format!("rigid-{cap}.jsonl"));
-        let out = out.to_str().unwrap().to_owned();
-        let args = [
-            "eval",
-            "--dataset",
-            scenes,
-            "--method",
-            "rigid",
-            "--tier",
-            "live",
-            "--answers",
-            &out,
-        ];
-        support::vref_with(
-            std::path::Path::new(env!("CARGO_BIN_EXE_vref")),
-            &args,
-            &[("VREF_SIMD", cap)],
-            Duration::from_secs(120),
-        )
-        .ok();
-        std::fs::read_to_string(&out).unwrap()
-    };
+    let answers = |cap: &str| answers_under_cap(dir.path(), scenes, &["rigid"], "live", cap);
     let widest = answers("avx512");
     assert!(json_lines(&widest).len() > 20);
     assert_eq!(answers("baseline"), widest);
