@@ -21,14 +21,12 @@ fn cap() -> Cap {
 }
 
 /// Whether AVX2 and FMA may be used.
-#[cfg(target_arch = "x86_64")]
 pub(crate) fn avx2_fma() -> bool {
     // std caches the answer: this is an atomic load after the first.
     cap() >= Cap::Avx2 && is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")
 }
 
 /// Whether AVX-512F (with AVX2 and FMA) may be used.
-#[cfg(target_arch = "x86_64")]
 pub(crate) fn avx512() -> bool {
     cap() >= Cap::Avx512 && avx2_fma() && is_x86_feature_detected!("avx512f")
 }

@@ -15,6 +15,7 @@ mod appearance;
 pub mod bench;
 mod calibration;
 mod candidates;
+#[cfg(target_arch = "x86_64")]
 mod cpu;
 mod distances;
 mod edge_product;
