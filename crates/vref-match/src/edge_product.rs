@@ -190,14 +190,6 @@ mod simd {
     // `sums` turns one vector per row into one vector of rows.
     const _: () = assert!(ROWS == LANES && LANES == 4);
 
-    pub(super) fn available() -> bool {
-        crate::cpu::avx2_fma()
-    }
-
-    pub(super) fn available_512() -> bool {
-        crate::cpu::avx512()
-    }
-
     /// False, and nothing done, when the CPU lacks AVX-512F.
     pub(super) fn edge_product_512(
         m: usize,
@@ -207,7 +199,7 @@ mod simd {
         oi: &mut [f64],
         oj: &mut [f64],
     ) -> bool {
-        if !available_512() {
+        if !crate::cpu::avx512() {
             return false;
         }
         #[allow(unsafe_code)]
@@ -228,7 +220,7 @@ mod simd {
         oi: &mut [f64],
         oj: &mut [f64],
     ) -> bool {
-        if !available() {
+        if !crate::cpu::avx2_fma() {
             return false;
         }
         #[allow(unsafe_code)]
@@ -247,7 +239,7 @@ mod simd {
         robot_lengths: &[f64],
         beta: f64,
     ) -> bool {
-        if !available() {
+        if !crate::cpu::avx2_fma() {
             return false;
         }
         #[allow(unsafe_code)]
@@ -265,7 +257,7 @@ mod simd {
         robot_lengths: &[f64],
         beta: f64,
     ) -> bool {
-        if !available_512() {
+        if !crate::cpu::avx512() {
             return false;
         }
         #[allow(unsafe_code)]
@@ -567,7 +559,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn the_avx2_path_agrees_with_the_baseline() {
-        if !simd::available() {
+        if !crate::cpu::avx2_fma() {
             return;
         }
         for m in [5, 37] {
@@ -579,7 +571,7 @@ mod tests {
             assert!(simd::edge_product(m, &k, &xi, &xj, &mut oi, &mut oj));
             close(&oi, &bi, 0.0);
             close(&oj, &bj, 0.0);
-            if simd::available_512() {
+            if crate::cpu::avx512() {
                 let (mut oi, mut oj) = (vec![1.0; p], vec![2.0; p]);
                 assert!(simd::edge_product_512(m, &k, &xi, &xj, &mut oi, &mut oj));
                 close(&oi, &bi, 0.0);
@@ -598,7 +590,7 @@ mod tests {
             &lengths,
             0.01
         ));
-        if simd::available_512() {
+        if crate::cpu::avx512() {
             let mut wide = Vec::new();
             assert!(simd::extend_kernel_row_512(&mut wide, 0.3, &lengths, 0.01));
             assert_eq!(wide, dispatched);
