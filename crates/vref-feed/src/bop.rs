@@ -10,7 +10,7 @@ use std::path::Path;
 
 use vref_import::{BopDataset, BopImport, BopOptions, BopSceneDir, MeasuredView, datasets_in};
 use vref_perception::PerceptionSettings;
-use vref_scene::{Limits, SceneGraph, SceneObject, ScenePair, Side};
+use vref_scene::{Limits, ScenePair, Side};
 
 use crate::dataset::DatasetSource;
 use crate::ticks::Ticker;
@@ -199,17 +199,6 @@ fn offset_ids(
     offset: u64,
     limits: &Limits,
 ) -> Result<ScenePair, vref_import::ImportError> {
-    let shift = |graph: &SceneGraph| {
-        let objects = graph
-            .objects()
-            .iter()
-            .map(|o| SceneObject {
-                id: o.id + offset,
-                ..o.clone()
-            })
-            .collect();
-        SceneGraph::new(objects, None, limits)
-    };
     let invalid = |side| {
         let name = pair.name.clone();
         move |source| vref_import::ImportError::Invalid {
@@ -217,8 +206,14 @@ fn offset_ids(
             source: vref_scene::PairError::Graph { side, source },
         }
     };
-    let robot = shift(&pair.robot).map_err(invalid(Side::Robot))?;
-    let human = shift(&pair.human).map_err(invalid(Side::Human))?;
+    let robot = pair
+        .robot
+        .with_ids_raised(offset, limits)
+        .map_err(invalid(Side::Robot))?;
+    let human = pair
+        .human
+        .with_ids_raised(offset, limits)
+        .map_err(invalid(Side::Human))?;
     let truth = pair
         .ground_truth
         .iter()

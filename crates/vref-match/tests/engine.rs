@@ -344,18 +344,6 @@ fn a_search_apart_overtaken_by_a_changed_scene_is_left_behind() {
 
 /// `graph` with every track id raised by `offset`: the same objects as
 /// another scene's, as a dataset's next scene or a restarted feed gives.
-fn renamed(graph: &SceneGraph, offset: u64) -> SceneGraph {
-    let objects = graph
-        .objects()
-        .iter()
-        .map(|o| SceneObject {
-            id: o.id + offset,
-            ..o.clone()
-        })
-        .collect();
-    SceneGraph::new(objects, None, &Limits::default()).unwrap()
-}
-
 #[test]
 fn a_view_swapped_for_another_scene_is_searched_though_the_old_motions_fit() {
     let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
@@ -364,24 +352,46 @@ fn a_view_swapped_for_another_scene_is_searched_though_the_old_motions_fit() {
     // Same positions, new track ids: the kept motions fit the new robot
     // view perfectly, but they were found in a scene it is not part of.
     engine
-        .update(Side::Robot, &renamed(&scene.robot, 1000))
+        .update(
+            Side::Robot,
+            &scene
+                .robot
+                .with_ids_raised(1000, &Limits::default())
+                .unwrap(),
+        )
         .unwrap();
     engine.solve().unwrap();
     assert!(!engine.resumed(), "a new robot view is searched");
     // Then the human view swaps too: what was found in the half-swapped
     // views does not carry over either.
-    let human = renamed(&scene.human, 1000);
+    let human = scene
+        .human
+        .with_ids_raised(1000, &Limits::default())
+        .unwrap();
     engine.update(Side::Human, &human).unwrap();
     let got = engine.solve().unwrap().0.clone();
     assert!(!engine.resumed(), "a new human view is searched");
     assert_eq!(
         got,
-        fresh(&human, &renamed(&scene.robot, 1000), Method::Rigid)
+        fresh(
+            &human,
+            &scene
+                .robot
+                .with_ids_raised(1000, &Limits::default())
+                .unwrap(),
+            Method::Rigid
+        )
     );
     // Views that keep their objects resume again.
     let moved = scene.moved(0, 3).unwrap();
     engine
-        .update(Side::Human, &renamed(&moved.human, 1000))
+        .update(
+            Side::Human,
+            &moved
+                .human
+                .with_ids_raised(1000, &Limits::default())
+                .unwrap(),
+        )
         .unwrap();
     engine.solve().unwrap();
     assert!(engine.resumed(), "the same scene, one object moved");

@@ -103,10 +103,10 @@ impl RejectReason {
                 GraphError::BadPositionSigma { .. } => RejectReason::Uncertainty,
                 GraphError::NonFiniteFeature { .. } => RejectReason::NonFiniteFeature,
                 GraphError::FeatureDimMismatch { .. } => RejectReason::FeatureDimMismatch,
-                // Snapshots carry no edges.
-                GraphError::UnknownEdgeEndpoint { .. } | GraphError::SelfLoop { .. } => {
-                    RejectReason::DuplicateId
-                }
+                // Snapshots carry no edges, and the wire never raises ids.
+                GraphError::UnknownEdgeEndpoint { .. }
+                | GraphError::SelfLoop { .. }
+                | GraphError::IdOverflow { .. } => RejectReason::DuplicateId,
             },
             WireError::NonFiniteRay { .. }
             | WireError::ZeroRayDirection

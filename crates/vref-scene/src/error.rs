@@ -52,6 +52,8 @@ pub enum GraphError {
     UnknownEdgeEndpoint { a: u64, b: u64, unknown: u64 },
     #[error("edge [{id}, {id}] joins an object to itself")]
     SelfLoop { id: u64 },
+    #[error("object id {id} raised by {offset} is beyond the largest id")]
+    IdOverflow { id: u64, offset: u64 },
 }
 
 /// A defect of a pair of graphs and its ground truth.

@@ -112,6 +112,35 @@ impl SceneGraph {
         self.index.get(&id).copied()
     }
 
+    /// This graph with every track id raised by `offset`, its edges with
+    /// them: the same scene under new ids, as a tracker that restarted
+    /// would report it.
+    pub fn with_ids_raised(&self, offset: u64, limits: &Limits) -> Result<Self, GraphError> {
+        let raise = |id: u64| {
+            id.checked_add(offset)
+                .ok_or(GraphError::IdOverflow { id, offset })
+        };
+        let objects = self
+            .objects
+            .iter()
+            .map(|o| {
+                Ok(SceneObject {
+                    id: raise(o.id)?,
+                    ..o.clone()
+                })
+            })
+            .collect::<Result<Vec<_>, GraphError>>()?;
+        let edges = self
+            .edge_ids()
+            .map(|list| {
+                list.iter()
+                    .map(|&[a, b]| Ok([raise(a)?, raise(b)?]))
+                    .collect::<Result<Vec<_>, GraphError>>()
+            })
+            .transpose()?;
+        Self::new(objects, edges, limits)
+    }
+
     /// The edge list by object ids, as a dataset file holds it.
     pub fn edge_ids(&self) -> Option<Vec<[u64; 2]>> {
         self.edges.as_ref().map(|edges| {

@@ -551,3 +551,50 @@ fn pair_graph_error_from_a_dataset_line_names_the_side() {
         assert!(reader.next().is_none());
     }
 }
+
+#[test]
+fn raised_ids_keep_the_objects_and_their_edges() {
+    let objects = vec![
+        obj(1, [0.0, 0.0, 1.0], &[1.0, 0.0]),
+        obj(2, [0.1, 0.0, 1.0], &[0.0, 1.0]),
+        obj(3, [0.0, 0.1, 1.0], &[0.5, 0.5]),
+    ];
+    let graph = SceneGraph::new(objects, Some(vec![[1, 3], [2, 3]]), &Limits::default()).unwrap();
+    let raised = graph.with_ids_raised(100, &Limits::default()).unwrap();
+    let ids: Vec<u64> = raised.objects().iter().map(|o| o.id).collect();
+    assert_eq!(ids, [101, 102, 103]);
+    for (a, b) in graph.objects().iter().zip(raised.objects()) {
+        assert_eq!((a.position, &a.feature), (b.position, &b.feature));
+    }
+    assert_eq!(raised.edge_ids(), Some(vec![[101, 103], [102, 103]]));
+    let unlinked = SceneGraph::new(vec![obj(4, [0.0, 0.0, 1.0], &[])], None, &Limits::default())
+        .unwrap()
+        .with_ids_raised(1, &Limits::default())
+        .unwrap();
+    assert_eq!(unlinked.edge_ids(), None);
+}
+
+#[test]
+fn raising_an_id_beyond_the_largest_is_refused() {
+    let graph = SceneGraph::new(
+        vec![
+            obj(7, [0.0, 0.0, 1.0], &[]),
+            obj(u64::MAX - 1, [0.1, 0.0, 1.0], &[]),
+        ],
+        None,
+        &Limits::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        graph.with_ids_raised(2, &Limits::default()).unwrap_err(),
+        GraphError::IdOverflow {
+            id: u64::MAX - 1,
+            offset: 2
+        }
+    );
+    assert!(
+        GraphError::IdOverflow { id: 9, offset: 4 }
+            .to_string()
+            .contains("object id 9 raised by 4")
+    );
+}
