@@ -383,17 +383,26 @@ fn answers_under_cap(
     std::fs::read_to_string(&out).unwrap()
 }
 
+/// `vref scenes ARGS` written to a file in `dir`; its path.
+fn scenes_file(dir: &Path, args: &[&str]) -> String {
+    let out = dir.join("scenes.jsonl");
+    let out = out.to_str().unwrap().to_owned();
+    let mut all = vec!["scenes"];
+    all.extend_from_slice(args);
+    all.extend(["--out", &out]);
+    vref(&all, Duration::from_secs(60)).ok();
+    out
+}
+
 /// The exact tier's product runs in AVX-512, AVX2 or baseline code by what
 /// the CPU has; `VREF_SIMD` caps it, so every path this CPU has can be
 /// checked end to end: all must give the same answers.
 #[test]
 fn every_simd_path_gives_the_exact_tier_the_same_answers() {
     let dir = tempfile::tempdir().unwrap();
-    let scenes = dir.path().join("rigid.jsonl");
-    let scenes = scenes.to_str().unwrap();
-    vref(
+    let scenes = scenes_file(
+        dir.path(),
         &[
-            "scenes",
             "--preset",
             "rigid",
             "--objects",
@@ -402,12 +411,9 @@ fn every_simd_path_gives_the_exact_tier_the_same_answers() {
             "3",
             "--seed",
             "5",
-            "--out",
-            scenes,
         ],
-        Duration::from_secs(60),
-    )
-    .ok();
+    );
+    let scenes = scenes.as_str();
     let answers = |cap: &str| {
         let methods = ["paper", "rrwm", "sm"];
         json_lines(&answers_under_cap(
@@ -445,15 +451,11 @@ fn every_simd_path_gives_the_exact_tier_the_same_answers() {
 #[test]
 fn every_simd_path_gives_rigid_the_same_answers_to_the_bit() {
     let dir = tempfile::tempdir().unwrap();
-    let scenes = dir.path().join("mrc.jsonl");
-    let scenes = scenes.to_str().unwrap();
-    vref(
-        &[
-            "scenes", "--preset", "mrc", "--count", "6", "--seed", "7", "--out", scenes,
-        ],
-        Duration::from_secs(60),
-    )
-    .ok();
+    let scenes = scenes_file(
+        dir.path(),
+        &["--preset", "mrc", "--count", "6", "--seed", "7"],
+    );
+    let scenes = scenes.as_str();
     let answers = |cap: &str| answers_under_cap(dir.path(), scenes, &["rigid"], "live", cap);
     let widest = answers("avx512");
     assert!(json_lines(&widest).len() > 20);
