@@ -250,9 +250,6 @@ impl Rays {
         loosest: f64,
         scratch: &mut RowScratch,
     ) {
-        let m = log_g.len();
-        scratch.lengths.resize(m, 0.0);
-        scratch.masks.resize(m.div_ceil(MASK_LANES), 0);
         let bound = Bound {
             tail: self.tail,
             gate: self.gate,
@@ -350,9 +347,14 @@ struct Bound {
     loosest: f64,
 }
 
+/// [`Rays::bounded_row`] itself, in whatever vectors the caller's target
+/// features let the compiler use.
 #[inline(always)]
 fn bounded_row_of(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
+    let m = log_g.len();
     let RowScratch { lengths, masks, .. } = scratch;
+    lengths.resize(m, 0.0);
+    masks.resize(m.div_ceil(MASK_LANES), 0);
     half_lengths_of(row, lengths);
     let Bound {
         tail,
@@ -809,8 +811,6 @@ mod tests {
                     loosest: rp.unmatched_cost,
                 };
                 let mut scalar = RowScratch::default();
-                scalar.lengths.resize(m, 0.0);
-                scalar.masks.resize(m.div_ceil(super::MASK_LANES), 0);
                 super::bounded_row_of(&row, log_g, bound, &mut scalar);
                 let mut dispatched = RowScratch::default();
                 rays.bounded_row(&row, log_g, rp.unmatched_cost, &mut dispatched);
