@@ -342,57 +342,29 @@ fn a_search_apart_overtaken_by_a_changed_scene_is_left_behind() {
     assert_eq!(engine.solution(), Some(&got));
 }
 
-/// `graph` with every track id raised by `offset`: the same objects as
-/// another scene's, as a dataset's next scene or a restarted feed gives.
 #[test]
 fn a_view_swapped_for_another_scene_is_searched_though_the_old_motions_fit() {
     let scene = RigidScene::with_noise(16, 4, 0.02).unwrap();
     let mut engine = rigid_live(Params::default(), &scene.human, &scene.robot);
     engine.solve().unwrap();
-    // Same positions, new track ids: the kept motions fit the new robot
-    // view perfectly, but they were found in a scene it is not part of.
-    engine
-        .update(
-            Side::Robot,
-            &scene
-                .robot
-                .with_ids_raised(1000, &Limits::default())
-                .unwrap(),
-        )
-        .unwrap();
+    // Same positions, new track ids (as a dataset's next scene or a
+    // restarted feed gives): the kept motions fit the new robot view
+    // perfectly, but they were found in a scene it is not part of.
+    let raised = |graph: &SceneGraph| graph.with_ids_raised(1000, &Limits::default()).unwrap();
+    let robot = raised(&scene.robot);
+    engine.update(Side::Robot, &robot).unwrap();
     engine.solve().unwrap();
     assert!(!engine.resumed(), "a new robot view is searched");
     // Then the human view swaps too: what was found in the half-swapped
     // views does not carry over either.
-    let human = scene
-        .human
-        .with_ids_raised(1000, &Limits::default())
-        .unwrap();
+    let human = raised(&scene.human);
     engine.update(Side::Human, &human).unwrap();
     let got = engine.solve().unwrap().0.clone();
     assert!(!engine.resumed(), "a new human view is searched");
-    assert_eq!(
-        got,
-        fresh(
-            &human,
-            &scene
-                .robot
-                .with_ids_raised(1000, &Limits::default())
-                .unwrap(),
-            Method::Rigid
-        )
-    );
+    assert_eq!(got, fresh(&human, &robot, Method::Rigid));
     // Views that keep their objects resume again.
     let moved = scene.moved(0, 3).unwrap();
-    engine
-        .update(
-            Side::Human,
-            &moved
-                .human
-                .with_ids_raised(1000, &Limits::default())
-                .unwrap(),
-        )
-        .unwrap();
+    engine.update(Side::Human, &raised(&moved.human)).unwrap();
     engine.solve().unwrap();
     assert!(engine.resumed(), "the same scene, one object moved");
 }
