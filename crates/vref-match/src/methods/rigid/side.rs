@@ -7,11 +7,17 @@ use crate::rigid::RigidMotion;
 /// Both cameras look at the objects from the same side of the surface
 /// they stand on (a table top, a floor). When the robot view's objects lie
 /// near a plane with the robot camera clearly off it, a motion that puts
-/// the human camera on the other side is a mirror of the scene through
-/// that plane, and is refused. Says nothing for scenes far from planar or
-/// cameras in their plane (image coordinates with z = 0).
+/// the human camera clearly on the other side is a mirror of the scene
+/// through that plane, and is refused. A human camera near the plane (a
+/// person looking across the table at its height) may be on either side
+/// of it: refusing those refused the true motion of the Python example's
+/// table scene, whose objects then paired as their mirror image. Says
+/// nothing for scenes far from planar or cameras in their plane (image
+/// coordinates with z = 0).
 pub(super) struct Side {
-    plane: Option<(Point3<f64>, nalgebra::Vector3<f64>)>,
+    /// A point of the plane, its normal towards the robot camera, and how
+    /// far off the plane a camera must be to count as clearly off it.
+    plane: Option<(Point3<f64>, nalgebra::Vector3<f64>, f64)>,
 }
 
 impl Side {
@@ -42,21 +48,23 @@ impl Side {
         let mut normal = eig.eigenvectors.column(order[0]).into_owned();
         // Orient the normal towards the robot camera (the origin).
         let camera = -normal.dot(&c);
-        if camera.abs() <= 3.0 * mid.sqrt() * Self::FLATNESS {
+        let clear = 3.0 * mid.sqrt() * Self::FLATNESS;
+        if camera.abs() <= clear {
             return none;
         }
         if camera < 0.0 {
             normal = -normal;
         }
         Self {
-            plane: Some((Point3::from(c), normal)),
+            plane: Some((Point3::from(c), normal, clear)),
         }
     }
 
-    /// Whether `motion` keeps the human camera (its origin) on the robot
-    /// camera's side of the plane.
+    /// Whether `motion` leaves the human camera (its origin) on the robot
+    /// camera's side of the plane, or near the plane.
     pub(super) fn allows(&self, motion: &RigidMotion) -> bool {
-        self.plane
-            .is_none_or(|(c, normal)| normal.dot(&(motion.apply(&Point3::origin()) - c)) > 0.0)
+        self.plane.is_none_or(|(c, normal, clear)| {
+            normal.dot(&(motion.apply(&Point3::origin()) - c)) >= -clear
+        })
     }
 }

@@ -1,0 +1,156 @@
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+//! The table scene of clients/python/examples/table_feed.py (six objects,
+//! nearly on one plane, an exact rigid motion between the views), whose
+//! human camera stands near the objects' plane: with every variation of
+//! appearance and stated error, and snapshots in any order, no answer is
+//! both wrong and confident enough to be `ok`.
+
+use vref_match::engine::Engine;
+use vref_match::{Method, Params, Problem, Solution, Tier, solve};
+use vref_scene::{Limits, SceneGraph, SceneObject, Side};
+
+const HUMAN: [[f64; 3]; 6] = [
+    [-0.20, 0.10, 0.80],
+    [0.00, 0.12, 0.95],
+    [0.18, 0.08, 0.70],
+    [0.25, 0.15, 1.05],
+    [-0.10, 0.14, 1.15],
+    [0.05, 0.05, 0.60],
+];
+
+/// The robot's id of human object `h` (the example's `1000 - 7h`).
+fn partner(h: u64) -> u64 {
+    1000 - 7 * h
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Features {
+    None,
+    Identical,
+    OneHot,
+}
+
+fn feature(kind: Features, h: usize) -> Vec<f32> {
+    match kind {
+        Features::None => Vec::new(),
+        Features::Identical => vec![0.5; 6],
+        Features::OneHot => {
+            let mut f = vec![0.05; 6];
+            f[h] = 1.0;
+            f
+        }
+    }
+}
+
+/// Both views at time `t` (the example's 2 mm wobble), objects listed in
+/// the order `order` gives.
+fn views(t: f64, sigma: f64, kind: Features, order: &[usize]) -> (SceneGraph, SceneGraph) {
+    let w = 0.002 * t.sin();
+    let human = order.iter().map(|&h| {
+        let [x, y, z] = HUMAN[h];
+        SceneObject::new(h as u64 + 1, [x + w, y + w, z + w], feature(kind, h))
+            .with_sigma([sigma; 3])
+    });
+    let robot = order.iter().map(|&h| {
+        let [x, y, z] = HUMAN[h];
+        SceneObject::new(
+            partner(h as u64 + 1),
+            [z - 0.9 + w, y + 0.02 + w, -x + 1.0 + w],
+            feature(kind, h),
+        )
+        .with_sigma([sigma; 3])
+    });
+    let graph = |o: Vec<SceneObject>| SceneGraph::new(o, None, &Limits::default()).unwrap();
+    (graph(human.collect()), graph(robot.collect()))
+}
+
+/// The confident wrong answers of `solution`: (human id, robot id, confidence).
+fn confidently_wrong(solution: &Solution, human: &[u64], robot: &[u64]) -> Vec<(u64, u64, f64)> {
+    let threshold = 0.5; // config/vref.toml's ambiguity_threshold
+    solution
+        .assignment
+        .iter()
+        .zip(&solution.confidence)
+        .enumerate()
+        .filter_map(|(i, (a, &c))| a.map(|j| (human[i], robot[j], c)))
+        .filter(|&(h, r, c)| r != partner(h) && c >= threshold)
+        .collect()
+}
+
+/// A small deterministic shuffle (splitmix64).
+fn shuffled(seed: u64) -> Vec<usize> {
+    let mut state = seed;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut order: Vec<usize> = (0..6).collect();
+    for k in (1..order.len()).rev() {
+        order.swap(k, (next() % (k as u64 + 1)) as usize);
+    }
+    order
+}
+
+const SIGMAS: [f64; 6] = [0.0, 0.005, 0.01, 0.015, 0.02, 0.03];
+const KINDS: [Features; 3] = [Features::None, Features::Identical, Features::OneHot];
+
+#[test]
+fn a_fresh_solve_of_the_table_scene_is_never_confidently_wrong() {
+    for sigma in SIGMAS {
+        for kind in KINDS {
+            for seed in 0..4 {
+                let (human, robot) = views(seed as f64, sigma, kind, &shuffled(seed));
+                let problem = Problem::new(&human, &robot, Params::default().beta).unwrap();
+                let solution = solve(Method::Rigid, &problem, &Params::default()).unwrap();
+                let ids = |g: &SceneGraph| g.objects().iter().map(|o| o.id).collect::<Vec<_>>();
+                let wrong = confidently_wrong(&solution, &ids(&human), &ids(&robot));
+                assert!(
+                    wrong.is_empty(),
+                    "sigma {sigma}, features {kind:?}, seed {seed}: {wrong:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_live_engine_on_the_table_scene_is_never_confidently_wrong() {
+    for sigma in SIGMAS {
+        for kind in KINDS {
+            for seed in 0..3u64 {
+                let mut engine = Engine::new(Method::Rigid, Tier::Live, Params::default()).unwrap();
+                // The two feeds at about 30 Hz for 2 s, arriving in an order
+                // of their own: a side may publish twice before the other.
+                let mut order_state = seed;
+                for k in 0..60u64 {
+                    order_state = order_state
+                        .wrapping_mul(6_364_136_223_846_793_005)
+                        .wrapping_add(1_442_695_040_888_963_407);
+                    let side = if (order_state >> 33) % 2 == 0 {
+                        Side::Human
+                    } else {
+                        Side::Robot
+                    };
+                    let (human, robot) = views(k as f64 / 30.0, sigma, kind, &shuffled(seed + k));
+                    let graph = if side == Side::Human { &human } else { &robot };
+                    engine.update(side, graph).unwrap();
+                    if k == 0 {
+                        continue;
+                    }
+                    let Ok((solution, h, r)) = engine.solve() else {
+                        continue;
+                    };
+                    let wrong = confidently_wrong(solution, h, r);
+                    assert!(
+                        wrong.is_empty(),
+                        "sigma {sigma}, features {kind:?}, seed {seed}, snapshot {k}: {wrong:?}"
+                    );
+                }
+            }
+        }
+    }
+}
