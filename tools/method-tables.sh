@@ -33,7 +33,7 @@ for file in "$dir"/null-report/*.jsonl; do
   python3 - "$file" "$answers" >> "$out/coincidence.json" <<'PY'
 import json, os, sys
 rows = [json.loads(line) for line in open(sys.argv[2])]
-ok = sum(1 for r in rows if r["matched"] and r["confidence"] >= 0.5)
+ok = sum(1 for r in rows if r["status"] == "ok")
 partner = sum(1 for r in rows if r["matched"])
 print(json.dumps({"dataset": os.path.basename(sys.argv[1]), "answers": len(rows),
                   "partners": partner, "ok": ok, "ok_share": ok / max(1, len(rows))}))

@@ -257,6 +257,15 @@ impl Config {
         }
         vref_reference::check_budget(matcher, self.scene.capacity)
             .map_err(|e| section("matcher", e.to_string()))?;
+        if matcher.fit_limit.is_nan() || matcher.fit_limit <= 0.0 {
+            return Err(section(
+                "matcher",
+                format!(
+                    "fit_limit is {}, but must be positive (inf: no test)",
+                    matcher.fit_limit
+                ),
+            ));
+        }
         if !(0.0..=1.0).contains(&matcher.ambiguity_threshold) {
             return Err(section(
                 "matcher",

@@ -3,8 +3,8 @@ use std::time::{Duration, Instant};
 use vref_scene::ScenePair;
 
 use crate::{
-    ECE_BINS, MatchError, Method, Params, Problem, SceneScore, SolveOptions, Summary, Tier,
-    expected_calibration_error, score_scene, solve_with,
+    ECE_BINS, MatchError, Method, OkRule, Params, Problem, SceneScore, SolveOptions, Summary, Tier,
+    Verdict, expected_calibration_error, score_scene, solve_with,
 };
 
 /// Scores of several methods accumulated scene by scene.
@@ -17,6 +17,8 @@ pub struct Evaluation {
     solve_times: Vec<Duration>,
     /// Per method, every human object's answer with its confidence.
     answers: Vec<Vec<RowAnswer>>,
+    /// What makes an answer's status `ok`.
+    ok_rule: OkRule,
 }
 
 /// One human object's answer in one scene.
@@ -27,6 +29,11 @@ pub struct RowAnswer {
     pub row: usize,
     /// The method's confidence that this answer is right.
     pub confidence: f64,
+    /// The status the live matcher gives this answer (before staleness).
+    pub status: Verdict,
+    /// The pair's squared residual in units of the stated errors, where
+    /// tested ([`crate::pair_residuals`]).
+    pub residual: Option<f64>,
     /// Whether it is right ("no partner" for an object without one counts).
     pub correct: bool,
     /// Whether the method gave the object a partner.
@@ -66,7 +73,15 @@ impl Evaluation {
             scores: vec![Vec::new(); methods.len()],
             solve_times: vec![Duration::ZERO; methods.len()],
             answers: vec![Vec::new(); methods.len()],
+            ok_rule: OkRule::default(),
         })
+    }
+
+    /// Gives each answer the status `rule` decides (default
+    /// [`OkRule::default`]): the matcher's, given its `[matcher]` settings.
+    pub fn with_ok_rule(mut self, rule: OkRule) -> Self {
+        self.ok_rule = rule;
+        self
     }
 
     /// Runs the methods in `tier` (default exact). The live tier starts
@@ -115,6 +130,8 @@ impl Evaluation {
                     scene,
                     row,
                     confidence,
+                    status: solution.verdict(row, confidence, &self.ok_rule),
+                    residual: solution.residuals.get(row).copied().flatten(),
                     correct: guess == truth.get(&human_ids[row]).copied(),
                     matched: a.is_some(),
                     human_objects: pair.human.len(),

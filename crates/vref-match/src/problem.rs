@@ -18,12 +18,12 @@ pub struct Problem {
     pub human_positions: Vec<Point3<f64>>,
     /// Positions of the robot objects (columns), in the robot camera frame.
     pub robot_positions: Vec<Point3<f64>>,
-    /// Per human object, the variance of its position error per axis as
-    /// its sensor states it ([`position_variance`]); empty or zero when not
-    /// stated.
-    pub human_variances: Vec<f64>,
+    /// Per human object, its position error per axis (standard
+    /// deviations, its own camera frame) as its sensor states it; empty or
+    /// zero when not stated.
+    pub human_sigmas: Vec<[f64; 3]>,
     /// Likewise per robot object.
-    pub robot_variances: Vec<f64>,
+    pub robot_sigmas: Vec<[f64; 3]>,
 }
 
 /// The mean over the three axes of the squared stated position errors:
@@ -33,12 +33,8 @@ pub fn position_variance(sigma: &[f64; 3]) -> f64 {
     sigma.iter().map(|s| s * s).sum::<f64>() / 3.0
 }
 
-fn variances(graph: &SceneGraph) -> Vec<f64> {
-    graph
-        .objects()
-        .iter()
-        .map(|o| position_variance(&o.position_sigma))
-        .collect()
+fn sigmas(graph: &SceneGraph) -> Vec<[f64; 3]> {
+    graph.objects().iter().map(|o| o.position_sigma).collect()
 }
 
 impl Problem {
@@ -55,8 +51,8 @@ impl Problem {
             spatial: SpatialTerm::Edges(SpatialAffinity::new(human, robot, beta)),
             human_positions: human.objects().iter().map(|o| o.position).collect(),
             robot_positions: robot.objects().iter().map(|o| o.position).collect(),
-            human_variances: variances(human),
-            robot_variances: variances(robot),
+            human_sigmas: sigmas(human),
+            robot_sigmas: sigmas(robot),
         })
     }
 
@@ -84,8 +80,8 @@ impl Problem {
         let mut problem = Self::pruned(n, m, appearance, spatial);
         problem.human_positions = human.objects().iter().map(|o| o.position).collect();
         problem.robot_positions = robot.objects().iter().map(|o| o.position).collect();
-        problem.human_variances = variances(human);
-        problem.robot_variances = variances(robot);
+        problem.human_sigmas = sigmas(human);
+        problem.robot_sigmas = sigmas(robot);
         Ok(problem)
     }
 
@@ -107,9 +103,21 @@ impl Problem {
             spatial: SpatialTerm::Pairs(spatial),
             human_positions: Vec::new(),
             robot_positions: Vec::new(),
-            human_variances: Vec::new(),
-            robot_variances: Vec::new(),
+            human_sigmas: Vec::new(),
+            robot_sigmas: Vec::new(),
         }
+    }
+
+    /// Per human object, the variance per axis of an isotropic error with
+    /// the stated one's total ([`position_variance`]); empty when none is
+    /// stated.
+    pub fn human_variances(&self) -> Vec<f64> {
+        self.human_sigmas.iter().map(position_variance).collect()
+    }
+
+    /// Likewise per robot object.
+    pub fn robot_variances(&self) -> Vec<f64> {
+        self.robot_sigmas.iter().map(position_variance).collect()
     }
 
     /// Number of candidate pairs, `n * m`.

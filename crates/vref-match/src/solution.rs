@@ -35,9 +35,21 @@ pub struct Solution {
     /// the largest possible, every object of the smaller view explained at
     /// no cost (`rigid`, when it found a motion); `None` otherwise.
     pub fit: Option<f64>,
+    /// Per row, its pair's squared Mahalanobis residual under `motion`
+    /// against both objects' stated errors ([`crate::pair_residuals`]);
+    /// empty for methods without a motion.
+    pub residuals: Vec<Option<f64>>,
 }
 
 impl Solution {
+    /// The verdict `rule` gives row `row`'s answer at `confidence` (the
+    /// solution's own, or less where the row was only partly pointed at).
+    pub fn verdict(&self, row: usize, confidence: f64, rule: &crate::OkRule) -> crate::Verdict {
+        let partnered = self.assignment.get(row).copied().flatten().is_some();
+        let residual = self.residuals.get(row).copied().flatten();
+        rule.verdict(confidence, partnered, residual)
+    }
+
     /// The matched pairs as (human track id, robot track id).
     pub fn id_pairs(&self, human: &SceneGraph, robot: &SceneGraph) -> Vec<(u64, u64)> {
         self.assignment

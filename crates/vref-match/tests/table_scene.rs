@@ -7,7 +7,8 @@
 //! both wrong and confident enough to be `ok`.
 
 use vref_match::engine::Engine;
-use vref_match::{Method, Params, Problem, Solution, Tier, solve};
+use vref_match::{Evaluation, Method, OkRule, Params, Problem, Solution, Tier, Verdict, solve};
+use vref_scene::ScenePair;
 use vref_scene::{Limits, SceneGraph, SceneObject, Side};
 
 const HUMAN: [[f64; 3]; 6] = [
@@ -65,16 +66,17 @@ fn views(t: f64, sigma: f64, kind: Features, order: &[usize]) -> (SceneGraph, Sc
     (graph(human.collect()), graph(robot.collect()))
 }
 
-/// The confident wrong answers of `solution`: (human id, robot id, confidence).
+/// The wrong answers of `solution` that the matcher would give as `ok`
+/// (config/vref.toml's rule): (human id, robot id, confidence).
 fn confidently_wrong(solution: &Solution, human: &[u64], robot: &[u64]) -> Vec<(u64, u64, f64)> {
-    let threshold = 0.5; // config/vref.toml's ambiguity_threshold
-    solution
-        .assignment
-        .iter()
-        .zip(&solution.confidence)
-        .enumerate()
-        .filter_map(|(i, (a, &c))| a.map(|j| (human[i], robot[j], c)))
-        .filter(|&(h, r, c)| r != partner(h) && c >= threshold)
+    let rule = OkRule::default();
+    (0..human.len())
+        .filter_map(|i| {
+            let j = solution.assignment[i]?;
+            let c = solution.confidence[i];
+            let ok = solution.verdict(i, c, &rule) == Verdict::Ok;
+            (ok && robot[j] != partner(human[i])).then_some((human[i], robot[j], c))
+        })
         .collect()
 }
 
@@ -153,4 +155,44 @@ fn the_live_engine_on_the_table_scene_is_never_confidently_wrong() {
             }
         }
     }
+}
+
+#[test]
+fn evaluation_gives_each_answer_the_matchers_status() {
+    let (human, robot) = views(0.7, 0.01, Features::None, &shuffled(5));
+    // The robot view a little deformed, so that every pair leaves a
+    // residual under the best motion.
+    let moved: Vec<SceneObject> = robot
+        .objects()
+        .iter()
+        .enumerate()
+        .map(|(k, o)| {
+            let p = o.position;
+            let d = 0.004 * (k as f64 - 2.5);
+            SceneObject::new(o.id, [p.x + d, p.y - d * d * 50.0, p.z], Vec::new())
+                .with_sigma([0.01; 3])
+        })
+        .collect();
+    let robot = SceneGraph::new(moved, None, &Limits::default()).unwrap();
+    let truth = (1..=6).map(|h| (h, partner(h))).collect();
+    let pair = ScenePair::new("table".into(), robot, human, truth).unwrap();
+    let statuses = |rule: OkRule| {
+        let mut e = Evaluation::new(&[Method::Rigid], Params::default())
+            .unwrap()
+            .with_ok_rule(rule);
+        e.add(&pair).unwrap();
+        e.answers(Method::Rigid).to_vec()
+    };
+    let default = statuses(OkRule::default());
+    assert!(default.iter().all(|a| a.status == Verdict::Ok && a.correct));
+    assert!(default.iter().all(|a| a.residual.is_some()));
+    // A limit below every pair's residual: none is ok, however confident.
+    let strict = statuses(OkRule {
+        fit_limit: 1e-9,
+        ..OkRule::default()
+    });
+    assert!(
+        strict.iter().all(|a| a.status == Verdict::Ambiguous),
+        "{strict:?}"
+    );
 }

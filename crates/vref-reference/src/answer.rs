@@ -1,4 +1,5 @@
 use nalgebra::Point3;
+use vref_match::{OkRule, Solution, Verdict};
 use vref_wire::{
     Alternative, AnswerStatus, MAX_ALTERNATIVES, PointingRay, QueryKind, Ray, ReferenceAnswer,
     ReferenceQuery, SCHEMA_VERSION,
@@ -9,17 +10,14 @@ use crate::solver::Solved;
 use crate::stamp::{Now, capture_age, micros};
 use crate::{Pointed, resolve_ray};
 
-/// What a solution concluded about one human object (row): the status an
-/// answer or a published decision gives it, before any staleness.
-pub fn outcome(confidence: f64, partnered: bool, ambiguity_threshold: f64) -> AnswerStatus {
-    // Below the threshold the robot should ask "which one?", whether the
-    // unsure answer is a partner or "no partner".
-    if confidence < ambiguity_threshold {
-        AnswerStatus::Ambiguous
-    } else if partnered {
-        AnswerStatus::Ok
-    } else {
-        AnswerStatus::NoMatch
+/// The status of row `row`'s answer at `confidence` as `rule` decides it
+/// (the same decision `vref eval --answers` records), before any
+/// staleness.
+pub fn outcome(solution: &Solution, row: usize, confidence: f64, rule: &OkRule) -> AnswerStatus {
+    match solution.verdict(row, confidence, rule) {
+        Verdict::Ok => AnswerStatus::Ok,
+        Verdict::Ambiguous => AnswerStatus::Ambiguous,
+        Verdict::NoMatch => AnswerStatus::NoMatch,
     }
 }
 
@@ -164,7 +162,7 @@ impl ReferenceState {
             count += 1;
         }
         answer.alternative_count = count;
-        answer.status = outcome(confidence, assigned.is_some(), self.ambiguity_threshold) as u32;
+        answer.status = outcome(solution, row, confidence, &self.ok_rule) as u32;
     }
 
     /// Answers resting on a snapshot or a ray captured too long ago are

@@ -1,6 +1,7 @@
 //! A finished solve as the matcher publishes it: the whole decision, for
 //! viewers and headsets (vref_wire's decision service).
 
+use vref_match::OkRule;
 use vref_wire::{DecisionEntry, DecisionHeader};
 
 use crate::answer::outcome;
@@ -42,7 +43,7 @@ pub fn decision_len(solved: &Solved) -> usize {
 
 /// The entry of human object `row`, with the status an answer about it
 /// would have (before any staleness).
-pub fn decision_entry(solved: &Solved, row: usize, ambiguity_threshold: f64) -> DecisionEntry {
+pub fn decision_entry(solved: &Solved, row: usize, rule: &OkRule) -> DecisionEntry {
     let solution = &solved.solution;
     let confidence = solution.confidence.get(row).copied().unwrap_or(0.0);
     let partner = solution.assignment.get(row).copied().flatten();
@@ -51,7 +52,7 @@ pub fn decision_entry(solved: &Solved, row: usize, ambiguity_threshold: f64) -> 
         human_track_id: solved.human.graph.objects().get(row).map_or(0, |o| o.id),
         robot_track_id: partner.and_then(|c| robot.get(c)).map_or(0, |o| o.id),
         confidence: confidence as f32,
-        status: outcome(confidence, partner.is_some(), ambiguity_threshold) as u32,
+        status: outcome(solution, row, confidence, rule) as u32,
         flags: if partner.is_some() {
             DecisionEntry::FLAG_PARTNER
         } else {

@@ -1,5 +1,5 @@
 use serde::{Deserialize, Serialize};
-use vref_match::{Method, Tier};
+use vref_match::{Method, OkRule, Tier};
 
 /// The `[matcher]` section of config/vref.toml.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -41,6 +41,23 @@ pub struct MatcherSettings {
     /// likely wrong than right; the published methods' confidence is only
     /// a row share (docs/method.md).
     pub ambiguity_threshold: f64,
+    /// A partner whose pair leaves a residual under the answer's motion
+    /// larger than this, in squared units of both objects' stated position
+    /// errors (chi-squared, three degrees of freedom), is `ambiguous`, not
+    /// `ok`, however confident; pairs of objects stating no error are not
+    /// tested. The default 16.27 fails a right pair with true stated errors
+    /// once in a thousand; `inf` turns the test off.
+    pub fit_limit: f64,
+}
+
+impl MatcherSettings {
+    /// When an answer is `ok`.
+    pub fn ok_rule(&self) -> OkRule {
+        OkRule {
+            ambiguity_threshold: self.ambiguity_threshold,
+            fit_limit: self.fit_limit,
+        }
+    }
 }
 
 impl Default for MatcherSettings {
@@ -55,7 +72,8 @@ impl Default for MatcherSettings {
             max_queries_per_client_hz: 2000.0,
             solver_nice: 10,
             cleanup_interval_ms: 250,
-            ambiguity_threshold: 0.5,
+            ambiguity_threshold: OkRule::default().ambiguity_threshold,
+            fit_limit: OkRule::default().fit_limit,
         }
     }
 }

@@ -34,7 +34,7 @@ pub struct ReferenceState {
     pub(crate) limits: Limits,
     pub(crate) stale_after: Duration,
     pub(crate) ray_max_age: Duration,
-    pub(crate) ambiguity_threshold: f64,
+    pub(crate) ok_rule: vref_match::OkRule,
     stamps: StampLimits,
     robot: Option<Arc<ValidSnapshot>>,
     human: Option<Arc<ValidSnapshot>>,
@@ -58,7 +58,7 @@ impl ReferenceState {
             limits,
             stale_after,
             ray_max_age: Duration::from_millis(settings.ray_max_age_ms),
-            ambiguity_threshold: settings.ambiguity_threshold,
+            ok_rule: settings.ok_rule(),
             stamps: StampLimits {
                 max_skew: Duration::from_millis(settings.max_clock_skew_ms),
                 max_age: Duration::from_millis(settings.max_capture_age_ms),

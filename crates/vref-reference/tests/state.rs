@@ -628,7 +628,7 @@ fn the_published_decision_says_what_answers_say() {
         assert_eq!(motion, method == "rigid", "{method}");
         assert_eq!(decision_len(solved), HUMAN_IDS.len());
         for (row, &h) in HUMAN_IDS.iter().enumerate() {
-            let entry = decision_entry(solved, row, 0.5);
+            let entry = decision_entry(solved, row, &settings(method).ok_rule());
             let a = s.answer(&by_id(h), &now);
             assert_eq!(entry.human_track_id, h);
             assert_eq!(

@@ -118,7 +118,7 @@ pub fn run(config: &Config) -> Result<(), ServeError> {
             nice: config.matcher.solver_nice,
             budget: Duration::from_millis(vref_reference::freshness_budget_ms(&config.matcher)),
             method: config.matcher.method.clone(),
-            ambiguity_threshold: config.matcher.ambiguity_threshold,
+            ok_rule: config.matcher.ok_rule(),
         },
     )?;
     let cleanup_thread = CleanupThread::spawn(

@@ -41,7 +41,8 @@ pub struct Publishing {
     /// A solve longer than this makes answers stale: said in the log.
     pub budget: Duration,
     pub method: String,
-    pub ambiguity_threshold: f64,
+    /// When an entry of the decision is `ok`.
+    pub ok_rule: vref_match::OkRule,
 }
 
 impl SolverThread {
@@ -152,6 +153,6 @@ fn publish(
     publisher.publish(
         decision_header(solved, &publishing.method),
         decision_len(solved),
-        |row| decision_entry(solved, row, publishing.ambiguity_threshold),
+        |row| decision_entry(solved, row, &publishing.ok_rule),
     )
 }

@@ -155,7 +155,9 @@ pub struct EvalArgs {
     #[arg(long)]
     pub json: bool,
     /// Also write every human object's answer (method, scene, row,
-    /// confidence, correct, matched) as JSON Lines to FILE: the input of
+    /// confidence, status as the matcher would give it under the
+    /// configuration's [matcher] settings, the pair's residual where
+    /// tested, correct, matched, ...) as JSON Lines to FILE: the input of
     /// tools/fit-calibration.py.
     #[arg(long, value_name = "FILE.jsonl", requires = "dataset")]
     pub answers: Option<PathBuf>,

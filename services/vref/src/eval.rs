@@ -31,7 +31,8 @@ pub fn run(args: &EvalArgs) -> Result<(), Failure> {
     let mut evaluation = Evaluation::new(&methods, params)
         .context("--beta")
         .bad_input()?
-        .with_tier(args.tier);
+        .with_tier(args.tier)
+        .with_ok_rule(config.matcher.ok_rule());
 
     let file = File::open(dataset_path)
         .with_context(|| format!("opening {}", dataset_path.display()))

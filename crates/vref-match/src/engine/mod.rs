@@ -238,8 +238,8 @@ impl Engine {
                 spatial: SpatialTerm::Edges(self.exact_spatial()),
                 human_positions: Vec::new(),
                 robot_positions: Vec::new(),
-                human_variances: Vec::new(),
-                robot_variances: Vec::new(),
+                human_sigmas: Vec::new(),
+                robot_sigmas: Vec::new(),
             },
             Tier::Live => Problem::pruned(n, m, self.appearance.clone(), self.live_spatial()),
         };
@@ -248,9 +248,9 @@ impl Engine {
             |objects: &[view::Tracked]| objects.iter().map(|o| o.position.into()).collect();
         problem.human_positions = points(&self.human.objects);
         problem.robot_positions = points(&self.robot.objects);
-        let variances = |objects: &[view::Tracked]| objects.iter().map(|o| o.variance).collect();
-        problem.human_variances = variances(&self.human.objects);
-        problem.robot_variances = variances(&self.robot.objects);
+        let sigmas = |objects: &[view::Tracked]| objects.iter().map(|o| o.sigma).collect();
+        problem.human_sigmas = sigmas(&self.human.objects);
+        problem.robot_sigmas = sigmas(&self.robot.objects);
         let warm = match tier {
             Tier::Exact => None,
             Tier::Live => self.warm_start(),

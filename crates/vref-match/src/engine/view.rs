@@ -5,8 +5,8 @@ use vref_scene::SceneGraph;
 pub(super) struct Tracked {
     pub id: u64,
     pub position: [f64; 3],
-    /// Variance per axis of the stated position error.
-    pub variance: f64,
+    /// The stated position error per axis.
+    pub sigma: [f64; 3],
     pub feature: Vec<f32>,
     pub norm: f64,
 }
@@ -67,7 +67,7 @@ impl View {
                 Tracked {
                     id: o.id,
                     position: [o.position.x, o.position.y, o.position.z],
-                    variance: crate::problem::position_variance(&o.position_sigma),
+                    sigma: o.position_sigma,
                     feature: o.feature.clone(),
                     norm,
                 }

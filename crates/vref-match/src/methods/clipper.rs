@@ -142,6 +142,7 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
         margin: None,
         significance: None,
         fit: None,
+        residuals: Vec::new(),
     }
 }
 

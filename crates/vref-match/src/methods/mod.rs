@@ -140,6 +140,7 @@ pub fn solve_with(
         margin: None,
         significance: None,
         fit: None,
+        residuals: Vec::new(),
     })
 }
 

@@ -76,7 +76,12 @@ impl Rays {
     /// one (all of it: an RGB-D camera's depth error dominates and lies
     /// along the ray), else `depth_error` times the range, squared. `None`
     /// for other views or when neither applies.
-    fn of(problem: &Problem, rp: &RigidParams, lateral_sigma: f64) -> Option<Self> {
+    fn of(
+        problem: &Problem,
+        variances: &[Vec<f64>; 2],
+        rp: &RigidParams,
+        lateral_sigma: f64,
+    ) -> Option<Self> {
         let in_front = |ps: &[Point3<f64>]| ps.iter().all(|p| p.z > 0.0);
         if !(in_front(&problem.human_positions) && in_front(&problem.robot_positions)) {
             return None;
@@ -101,8 +106,8 @@ impl Rays {
                 })
                 .collect()
         };
-        let human = rays(&problem.human_positions, &problem.human_variances);
-        let robot = rays(&problem.robot_positions, &problem.robot_variances);
+        let human = rays(&problem.human_positions, &variances[0]);
+        let robot = rays(&problem.robot_positions, &variances[1]);
         let axis = |k: usize| robot.iter().map(|(u, _)| u[k]).collect();
         let depth = if stated { 1.0 } else { rp.depth_error.powi(2) };
         let mut rays = Self {
@@ -415,7 +420,8 @@ impl<'a> Costs<'a> {
         let axis = |k: usize| problem.robot_positions.iter().map(|p| p[k]).collect();
         let sigma = rp.sigma_factor * spacing;
         let sigma2 = sigma * sigma;
-        let rays = Rays::of(problem, rp, rp.lateral_factor * spacing);
+        let variances = [problem.human_variances(), problem.robot_variances()];
+        let rays = Rays::of(problem, &variances, rp, rp.lateral_factor * spacing);
         // Stated errors of views that are not in camera frames: isotropic.
         let stated =
             (rays.is_none() && rp.stated_errors && has_stated_errors(problem)).then(|| {
@@ -423,9 +429,7 @@ impl<'a> Costs<'a> {
                 let mut inv = Vec::with_capacity(n * m);
                 for i in 0..n {
                     for j in 0..m {
-                        let s2 = sigma2
-                            + variance(&problem.human_variances, i)
-                            + variance(&problem.robot_variances, j);
+                        let s2 = sigma2 + variance(&variances[0], i) + variance(&variances[1], j);
                         inv.push(1.0 / (2.0 * s2));
                     }
                 }
@@ -433,7 +437,7 @@ impl<'a> Costs<'a> {
             });
         // The search's tolerances follow the typical pair's scale.
         let typical = if stated.is_some() {
-            (sigma2 + median(&problem.human_variances) + median(&problem.robot_variances)).sqrt()
+            (sigma2 + median(&variances[0]) + median(&variances[1])).sqrt()
         } else if let Some(rays) = &rays {
             rays.typical()
         } else {
@@ -593,10 +597,11 @@ impl<'a> Costs<'a> {
 /// Whether either view states a position error for some object.
 fn has_stated_errors(problem: &Problem) -> bool {
     problem
-        .human_variances
+        .human_sigmas
         .iter()
-        .chain(&problem.robot_variances)
-        .any(|&v| v > 0.0)
+        .chain(&problem.robot_sigmas)
+        .flatten()
+        .any(|&s| s > 0.0)
 }
 
 /// Entry `k` of a per-object list that may be empty (nothing stated).
@@ -717,8 +722,8 @@ mod tests {
             )),
             human_positions,
             robot_positions,
-            human_variances: Vec::new(),
-            robot_variances: Vec::new(),
+            human_sigmas: Vec::new(),
+            robot_sigmas: Vec::new(),
         }
     }
 

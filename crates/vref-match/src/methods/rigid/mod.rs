@@ -236,7 +236,9 @@ pub(crate) fn solve_from(
             *c = c.min(rp.chance_cap);
         }
     }
+    let residuals = crate::pair_residuals(problem, &assignment, motion.as_ref());
     let solution = Solution {
+        residuals,
         soft,
         assignment,
         confidence,
