@@ -43,10 +43,11 @@ pub struct MatcherSettings {
     pub ambiguity_threshold: f64,
     /// A partner whose pair leaves a residual under the answer's motion
     /// larger than this, in squared units of both objects' stated position
-    /// errors (chi-squared, three degrees of freedom), is `ambiguous`, not
-    /// `ok`, however confident; pairs of objects stating no error are not
-    /// tested. The default 16.27 fails a right pair with true stated errors
-    /// once in a thousand; `inf` turns the test off.
+    /// errors, is `ambiguous`, not `ok`, however confident; pairs of
+    /// objects stating no error are not tested. The default 70.4 fails a
+    /// right pair once in a thousand where the errors are as stated with
+    /// the heavy tails `rigid` models (a three-dimensional Student t with 6
+    /// degrees of freedom); `inf` turns the test off.
     pub fit_limit: f64,
 }
 
