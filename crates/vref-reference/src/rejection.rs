@@ -103,10 +103,12 @@ impl RejectReason {
                 GraphError::BadPositionSigma { .. } => RejectReason::Uncertainty,
                 GraphError::NonFiniteFeature { .. } => RejectReason::NonFiniteFeature,
                 GraphError::FeatureDimMismatch { .. } => RejectReason::FeatureDimMismatch,
-                // Snapshots carry no edges, and the wire never raises ids.
+                // Snapshots carry no edges and no up vector yet, and the
+                // wire never raises ids.
                 GraphError::UnknownEdgeEndpoint { .. }
                 | GraphError::SelfLoop { .. }
-                | GraphError::IdOverflow { .. } => RejectReason::DuplicateId,
+                | GraphError::IdOverflow { .. }
+                | GraphError::BadUp { .. } => RejectReason::DuplicateId,
             },
             WireError::NonFiniteRay { .. }
             | WireError::ZeroRayDirection

@@ -54,6 +54,8 @@ pub enum GraphError {
     SelfLoop { id: u64 },
     #[error("object id {id} raised by {offset} is beyond the largest id")]
     IdOverflow { id: u64, offset: u64 },
+    #[error("up is {up:?}, not a finite non-zero direction")]
+    BadUp { up: [f64; 3] },
 }
 
 /// A defect of a pair of graphs and its ground truth.

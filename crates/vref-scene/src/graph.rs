@@ -1,6 +1,6 @@
 use std::collections::HashMap;
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 
 use crate::{GraphError, Limits};
 
@@ -50,6 +50,9 @@ pub struct SceneGraph {
     edges: Option<Vec<(usize, usize)>>,
     feature_dim: usize,
     index: HashMap<u64, usize>,
+    /// Which way is up (against gravity) in the camera's frame, unit
+    /// length; `None` when the view does not know.
+    up: Option<Vector3<f64>>,
 }
 
 impl SceneGraph {
@@ -82,7 +85,21 @@ impl SceneGraph {
             edges,
             feature_dim,
             index,
+            up: None,
         })
+    }
+
+    /// This graph with its camera's up vector (against gravity, in the
+    /// camera frame; any non-zero length, kept as unit length), or with
+    /// none (`None`: unknown).
+    pub fn with_up(self, up: Option<[f64; 3]>) -> Result<Self, GraphError> {
+        let up = up.map(check_up).transpose()?;
+        Ok(Self { up, ..self })
+    }
+
+    /// Which way is up in the camera frame (unit length), where known.
+    pub fn up(&self) -> Option<Vector3<f64>> {
+        self.up
     }
 
     pub fn objects(&self) -> &[SceneObject] {
@@ -138,7 +155,7 @@ impl SceneGraph {
                     .collect::<Result<Vec<_>, GraphError>>()
             })
             .transpose()?;
-        Self::new(objects, edges, limits)
+        Self::new(objects, edges, limits).map(|g| Self { up: self.up, ..g })
     }
 
     /// The edge list by object ids, as a dataset file holds it.
@@ -150,6 +167,19 @@ impl SceneGraph {
                 .collect()
         })
     }
+}
+
+/// Lengths below this are no direction (a float32 wire value rounds a
+/// unit vector's length to within 1e-7 of 1).
+const MIN_UP_NORM: f64 = 1e-6;
+
+fn check_up(up: [f64; 3]) -> Result<Vector3<f64>, GraphError> {
+    let v = Vector3::from(up);
+    let norm = v.norm();
+    if !(v.iter().all(|c| c.is_finite()) && norm >= MIN_UP_NORM && norm.is_finite()) {
+        return Err(GraphError::BadUp { up });
+    }
+    Ok(v / norm)
 }
 
 fn check_object(

@@ -960,3 +960,37 @@ fn read_dataset_file_on_a_missing_path() {
     assert_eq!(err.line(), None);
     assert!(err.to_string().contains("does-not-exist"), "{err}");
 }
+
+#[test]
+fn a_view_may_carry_its_up_vector_kept_as_unit_length() {
+    let mut value = valid_value("gravity");
+    value["human"]["up"] = json!([0.0, -2.0, 0.0]);
+    let pairs = read_ok(format!("{value}\n").as_bytes());
+    let up = pairs[0].human.up().expect("human up");
+    assert_eq!([up.x, up.y, up.z], [0.0, -1.0, 0.0]);
+    assert_eq!(pairs[0].robot.up(), None);
+    // Written and read again: the same.
+    let again = read_ok(&write(&pairs));
+    assert_eq!(again[0].human.up(), pairs[0].human.up());
+    assert_eq!(again[0].robot.up(), None);
+}
+
+#[test]
+fn an_up_vector_that_is_no_direction_is_invalid() {
+    for bad in [json!([0.0, 0.0, 0.0]), json!([0.0, 1e-9, 0.0])] {
+        let mut value = valid_value("no up");
+        value["robot"]["up"] = bad;
+        let (name, source) = invalid_of(value.to_string().as_bytes(), 2);
+        assert_eq!(name, "no up");
+        assert!(
+            matches!(
+                source,
+                PairError::Graph {
+                    side: Side::Robot,
+                    source: GraphError::BadUp { .. }
+                }
+            ),
+            "{source:?}"
+        );
+    }
+}

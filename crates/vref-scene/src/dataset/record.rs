@@ -28,6 +28,9 @@ pub(super) struct GraphRecord {
     pub objects: Vec<ObjectRecord>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub edges: Option<Vec<[u64; 2]>>,
+    /// Which way is up in the camera frame; absent when unknown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up: Option<[f64; 3]>,
 }
 
 #[derive(Debug, Serialize, Deserialize)]
@@ -123,6 +126,7 @@ impl GraphRecord {
                 })
                 .collect(),
             edges: graph.edge_ids(),
+            up: graph.up().map(Into::into),
         }
     }
 
@@ -132,6 +136,6 @@ impl GraphRecord {
             .into_iter()
             .map(|o| SceneObject::new(o.id, o.position, o.feature).with_sigma(o.position_sigma))
             .collect();
-        SceneGraph::new(objects, self.edges, limits)
+        SceneGraph::new(objects, self.edges, limits)?.with_up(self.up)
     }
 }
