@@ -1,4 +1,6 @@
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
+
+use crate::RigidMotion;
 use vref_scene::SceneGraph;
 
 use crate::{
@@ -24,6 +26,10 @@ pub struct Problem {
     pub human_sigmas: Vec<[f64; 3]>,
     /// Likewise per robot object.
     pub robot_sigmas: Vec<[f64; 3]>,
+    /// Which way is up in the human camera frame (unit), where known.
+    pub human_up: Option<Vector3<f64>>,
+    /// Which way is up in the robot camera frame (unit), where known.
+    pub robot_up: Option<Vector3<f64>>,
 }
 
 /// The mean over the three axes of the squared stated position errors:
@@ -53,6 +59,8 @@ impl Problem {
             robot_positions: robot.objects().iter().map(|o| o.position).collect(),
             human_sigmas: sigmas(human),
             robot_sigmas: sigmas(robot),
+            human_up: human.up(),
+            robot_up: robot.up(),
         })
     }
 
@@ -82,6 +90,8 @@ impl Problem {
         problem.robot_positions = robot.objects().iter().map(|o| o.position).collect();
         problem.human_sigmas = sigmas(human);
         problem.robot_sigmas = sigmas(robot);
+        problem.human_up = human.up();
+        problem.robot_up = robot.up();
         Ok(problem)
     }
 
@@ -105,6 +115,8 @@ impl Problem {
             robot_positions: Vec::new(),
             human_sigmas: Vec::new(),
             robot_sigmas: Vec::new(),
+            human_up: None,
+            robot_up: None,
         }
     }
 
@@ -118,6 +130,27 @@ impl Problem {
     /// Likewise per robot object.
     pub fn robot_variances(&self) -> Vec<f64> {
         self.robot_sigmas.iter().map(position_variance).collect()
+    }
+
+    /// Both views' up vectors (human, robot), where both are known.
+    pub fn gravity(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        self.human_up.zip(self.robot_up)
+    }
+
+    /// The least-squares proper motion taking human positions `from` to
+    /// robot positions `to`: with both up vectors known, one that takes
+    /// the human up to the robot's ([`RigidMotion::fit_upright`]), else any
+    /// ([`RigidMotion::fit`]).
+    pub fn fit_motion(
+        &self,
+        from: &[Point3<f64>],
+        to: &[Point3<f64>],
+        weights: &[f64],
+    ) -> Option<RigidMotion> {
+        match self.gravity() {
+            Some((h, r)) => RigidMotion::fit_upright(from, to, weights, &h, &r),
+            None => RigidMotion::fit(from, to, weights),
+        }
     }
 
     /// Number of candidate pairs, `n * m`.

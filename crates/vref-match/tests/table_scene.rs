@@ -45,8 +45,15 @@ fn feature(kind: Features, h: usize) -> Vec<f32> {
 }
 
 /// Both views at time `t` (the example's 2 mm wobble), objects listed in
-/// the order `order` gives.
-fn views(t: f64, sigma: f64, kind: Features, order: &[usize]) -> (SceneGraph, SceneGraph) {
+/// the order `order` gives, with their up vectors where `up` (the robot's
+/// frame is the human's turned a quarter about y, so up stays -y).
+fn views(
+    t: f64,
+    sigma: f64,
+    kind: Features,
+    order: &[usize],
+    up: bool,
+) -> (SceneGraph, SceneGraph) {
     let w = 0.002 * t.sin();
     let human = order.iter().map(|&h| {
         let [x, y, z] = HUMAN[h];
@@ -62,7 +69,13 @@ fn views(t: f64, sigma: f64, kind: Features, order: &[usize]) -> (SceneGraph, Sc
         )
         .with_sigma([sigma; 3])
     });
-    let graph = |o: Vec<SceneObject>| SceneGraph::new(o, None, &Limits::default()).unwrap();
+    let up = up.then_some([0.0, -1.0, 0.0]);
+    let graph = |o: Vec<SceneObject>| {
+        SceneGraph::new(o, None, &Limits::default())
+            .unwrap()
+            .with_up(up)
+            .unwrap()
+    };
     (graph(human.collect()), graph(robot.collect()))
 }
 
@@ -103,16 +116,16 @@ const KINDS: [Features; 3] = [Features::None, Features::Identical, Features::One
 #[test]
 fn a_fresh_solve_of_the_table_scene_is_never_confidently_wrong() {
     for sigma in SIGMAS {
-        for kind in KINDS {
+        for (kind, up) in KINDS.iter().flat_map(|&k| [(k, false), (k, true)]) {
             for seed in 0..4 {
-                let (human, robot) = views(seed as f64, sigma, kind, &shuffled(seed));
+                let (human, robot) = views(seed as f64, sigma, kind, &shuffled(seed), up);
                 let problem = Problem::new(&human, &robot, Params::default().beta).unwrap();
                 let solution = solve(Method::Rigid, &problem, &Params::default()).unwrap();
                 let ids = |g: &SceneGraph| g.objects().iter().map(|o| o.id).collect::<Vec<_>>();
                 let wrong = confidently_wrong(&solution, &ids(&human), &ids(&robot));
                 assert!(
                     wrong.is_empty(),
-                    "sigma {sigma}, features {kind:?}, seed {seed}: {wrong:?}"
+                    "sigma {sigma}, features {kind:?}, up {up}, seed {seed}: {wrong:?}"
                 );
             }
         }
@@ -122,7 +135,7 @@ fn a_fresh_solve_of_the_table_scene_is_never_confidently_wrong() {
 #[test]
 fn the_live_engine_on_the_table_scene_is_never_confidently_wrong() {
     for sigma in SIGMAS {
-        for kind in KINDS {
+        for (kind, up) in KINDS.iter().flat_map(|&k| [(k, false), (k, true)]) {
             for seed in 0..3u64 {
                 let mut engine = Engine::new(Method::Rigid, Tier::Live, Params::default()).unwrap();
                 // The two feeds at about 30 Hz for 2 s, arriving in an order
@@ -137,7 +150,8 @@ fn the_live_engine_on_the_table_scene_is_never_confidently_wrong() {
                     } else {
                         Side::Robot
                     };
-                    let (human, robot) = views(k as f64 / 30.0, sigma, kind, &shuffled(seed + k));
+                    let (human, robot) =
+                        views(k as f64 / 30.0, sigma, kind, &shuffled(seed + k), up);
                     let graph = if side == Side::Human { &human } else { &robot };
                     engine.update(side, graph).unwrap();
                     if k == 0 {
@@ -149,7 +163,7 @@ fn the_live_engine_on_the_table_scene_is_never_confidently_wrong() {
                     let wrong = confidently_wrong(solution, h, r);
                     assert!(
                         wrong.is_empty(),
-                        "sigma {sigma}, features {kind:?}, seed {seed}, snapshot {k}: {wrong:?}"
+                        "sigma {sigma}, features {kind:?}, up {up}, seed {seed}, snapshot {k}: {wrong:?}"
                     );
                 }
             }
@@ -159,7 +173,7 @@ fn the_live_engine_on_the_table_scene_is_never_confidently_wrong() {
 
 #[test]
 fn evaluation_gives_each_answer_the_matchers_status() {
-    let (human, robot) = views(0.7, 0.01, Features::None, &shuffled(5));
+    let (human, robot) = views(0.7, 0.01, Features::None, &shuffled(5), false);
     // The robot view a little deformed, so that every pair leaves a
     // residual under the best motion.
     let moved: Vec<SceneObject> = robot
@@ -195,4 +209,63 @@ fn evaluation_gives_each_answer_the_matchers_status() {
         strict.iter().all(|a| a.status == Verdict::Ambiguous),
         "{strict:?}"
     );
+}
+
+#[test]
+fn up_vectors_tell_a_symmetric_table_from_its_mirror_image() {
+    // Five alike objects on a table, symmetric about a line across it: the
+    // table turned over (a half turn about that line) pairs every object
+    // with its mirror image at no residual, so positions alone cannot say
+    // which pairing is right; which way is up can.
+    let table = [
+        [-0.2, 0.1, 0.8],
+        [0.2, 0.1, 0.8],
+        [-0.1, 0.1, 1.0],
+        [0.1, 0.1, 1.0],
+        [0.0, 0.1, 1.25],
+    ];
+    let view = |robot: bool, up: bool| {
+        let objects = table
+            .iter()
+            .enumerate()
+            .map(|(k, &[x, y, z])| {
+                let (id, p) = if robot {
+                    (partner(k as u64 + 1), [z - 0.9, y + 0.02, -x + 1.0])
+                } else {
+                    (k as u64 + 1, [x, y, z])
+                };
+                SceneObject::new(id, p, vec![0.5; 4]).with_sigma([0.01; 3])
+            })
+            .collect();
+        SceneGraph::new(objects, None, &Limits::default())
+            .unwrap()
+            .with_up(up.then_some([0.0, -1.0, 0.0]))
+            .unwrap()
+    };
+    let ids = |g: &SceneGraph| g.objects().iter().map(|o| o.id).collect::<Vec<_>>();
+    for same_side in [true, false] {
+        let mut params = Params::default();
+        params.rigid.same_side = same_side;
+        for up in [false, true] {
+            let (human, robot) = (view(false, up), view(true, up));
+            let problem = Problem::new(&human, &robot, params.beta).unwrap();
+            let solution = solve(Method::Rigid, &problem, &params).unwrap();
+            let wrong = confidently_wrong(&solution, &ids(&human), &ids(&robot));
+            assert!(
+                wrong.is_empty(),
+                "same_side {same_side}, up {up}: {wrong:?}"
+            );
+            if up {
+                let rule = OkRule::default();
+                let right_ok = (0..5)
+                    .filter(|&i| {
+                        solution.assignment[i].map(|j| robot.objects()[j].id)
+                            == Some(partner(human.objects()[i].id))
+                            && solution.verdict(i, solution.confidence[i], &rule) == Verdict::Ok
+                    })
+                    .count();
+                assert_eq!(right_ok, 5, "same_side {same_side}: {solution:?}");
+            }
+        }
+    }
 }

@@ -105,6 +105,14 @@ impl Engine {
             return Err(MatchError::FeatureDimsDiffer { human, robot });
         }
         let had_features = (self.human.has_features(), self.robot.has_features());
+        let view = match side {
+            Side::Human => &mut self.human,
+            Side::Robot => &mut self.robot,
+        };
+        // A view whose up vector changed asks for a new solve, though no
+        // object did.
+        let turned = view.up != graph.up();
+        view.up = graph.up();
         let (old_n, old_m) = (self.human.len(), self.robot.len());
         let (unchanged, change) = match side {
             Side::Human => self.human.update(graph),
@@ -125,7 +133,7 @@ impl Engine {
         };
         self.human_in_spatial = compose(&self.human_in_spatial, &human_old, old_n);
         self.robot_in_spatial = compose(&self.robot_in_spatial, &robot_old, old_m);
-        self.dirty |= change.any() || self.solved.is_none();
+        self.dirty |= change.any() || turned || self.solved.is_none();
         Ok(change)
     }
 
@@ -240,6 +248,8 @@ impl Engine {
                 robot_positions: Vec::new(),
                 human_sigmas: Vec::new(),
                 robot_sigmas: Vec::new(),
+                human_up: None,
+                robot_up: None,
             },
             Tier::Live => Problem::pruned(n, m, self.appearance.clone(), self.live_spatial()),
         };
@@ -251,6 +261,8 @@ impl Engine {
         let sigmas = |objects: &[view::Tracked]| objects.iter().map(|o| o.sigma).collect();
         problem.human_sigmas = sigmas(&self.human.objects);
         problem.robot_sigmas = sigmas(&self.robot.objects);
+        problem.human_up = self.human.up;
+        problem.robot_up = self.robot.up;
         let warm = match tier {
             Tier::Exact => None,
             Tier::Live => self.warm_start(),

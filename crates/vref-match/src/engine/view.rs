@@ -35,6 +35,8 @@ impl Change {
 #[derive(Debug, Clone, Default)]
 pub(super) struct View {
     pub objects: Vec<Tracked>,
+    /// Which way is up in the camera frame, where the view knows.
+    pub up: Option<nalgebra::Vector3<f64>>,
     /// `n x n`, row-major.
     pub distances: Vec<f64>,
 }

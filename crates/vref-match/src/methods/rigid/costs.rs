@@ -724,6 +724,8 @@ mod tests {
             robot_positions,
             human_sigmas: Vec::new(),
             robot_sigmas: Vec::new(),
+            human_up: None,
+            robot_up: None,
         }
     }
 

@@ -370,7 +370,7 @@ fn fit_assigned(problem: &Problem, assignment: &[Option<usize>]) -> Option<Rigid
     if from.len() < 3 {
         return None;
     }
-    RigidMotion::fit(&from, &to, &vec![1.0; from.len()])
+    problem.fit_motion(&from, &to, &vec![1.0; from.len()])
 }
 
 /// Minimum-cost assignment in which every human object may instead stay

@@ -58,7 +58,7 @@ pub(super) fn search(
     let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
     let mut consistent: Vec<usize> = Vec::with_capacity(m);
     let mut scratch = Scratch::default();
-    let side = Side::of(rpos);
+    let side = Side::of(problem);
     let probes = probe_points(hp);
     let same = |a: &RigidMotion, b: &RigidMotion| same_motion(a, b, &probes, 2.0 * sigma);
     // A motion that explains nearly every object nearly perfectly leaves
@@ -121,7 +121,7 @@ pub(super) fn search(
             };
             let from = s.map(|(i, _)| hp[i]);
             let to = s.map(|(_, j)| rpos[j]);
-            let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
+            let Some(motion) = problem.fit_motion(&from, &to, &[1.0; 3]) else {
                 continue;
             };
             if rp.same_side && !side.allows(&motion) {
@@ -229,7 +229,7 @@ pub(super) fn chance_inliers(
         min_edge: f64::NEG_INFINITY,
     };
     let probes = probe_points(hp);
-    let side = Side::of(rpos);
+    let side = Side::of(problem);
     let mut rng = SplitMix(rp.seed.rotate_left(17) ^ ((n as u64) << 32) ^ m as u64);
     let mut consistent = Vec::with_capacity(m);
     let mut scratch = Scratch::default();
@@ -245,7 +245,7 @@ pub(super) fn chance_inliers(
         };
         let from = s.map(|(i, _)| hp[i]);
         let to = s.map(|(_, j)| rpos[j]);
-        let Some(motion) = RigidMotion::fit(&from, &to, &[1.0; 3]) else {
+        let Some(motion) = problem.fit_motion(&from, &to, &[1.0; 3]) else {
             continue;
         };
         if rp.same_side && !side.allows(&motion) {
@@ -608,7 +608,7 @@ fn fit_pairs(problem: &Problem, pairs: &[(usize, usize)]) -> Option<RigidMotion>
         .iter()
         .map(|&(_, j)| problem.robot_positions[j])
         .collect();
-    RigidMotion::fit(&from, &to, &vec![1.0; pairs.len()])
+    problem.fit_motion(&from, &to, &vec![1.0; pairs.len()])
 }
 
 /// For each human object, the robot objects that hypotheses may pair it

@@ -2,6 +2,7 @@
 
 use nalgebra::Point3;
 
+use crate::Problem;
 use crate::rigid::RigidMotion;
 
 /// Both cameras look at the objects from the same side of the surface
@@ -25,7 +26,17 @@ impl Side {
     /// next smallest, below which the scene counts as planar.
     const FLATNESS: f64 = 0.25;
 
-    pub(super) fn of(points: &[Point3<f64>]) -> Self {
+    /// The rule for `problem`'s robot view; none where both views know
+    /// which way is up, since their motions then cannot turn the scene
+    /// over ([`Problem::fit_motion`]).
+    pub(super) fn of(problem: &Problem) -> Self {
+        if problem.gravity().is_some() {
+            return Self { plane: None };
+        }
+        Self::of_points(&problem.robot_positions)
+    }
+
+    fn of_points(points: &[Point3<f64>]) -> Self {
         let none = Self { plane: None };
         if points.len() < 3 {
             return none;
