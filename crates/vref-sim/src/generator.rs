@@ -1,5 +1,6 @@
 //! Scene pairs from a configuration and a seed.
 
+use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vref_scene::{Limits, SceneGraph, SceneObject, ScenePair, Side};
@@ -24,6 +25,9 @@ pub struct Generator {
     config: SimConfig,
     seed: u64,
     name: String,
+    /// Whether each view carries its camera's up vector, and the standard
+    /// deviation of its tilt error (radians).
+    up_error: Option<f64>,
 }
 
 /// One generated scene: the pair as a dataset holds it, and the world
@@ -66,7 +70,25 @@ impl Generator {
             config,
             seed,
             name: "sim".to_owned(),
+            up_error: None,
         })
+    }
+
+    /// Each view carries its camera's up vector (the world's vertical in
+    /// the camera frame), tilted by an error of `error_deg` degrees
+    /// (standard deviation, in a random direction), as a headset's or a
+    /// robot's own estimate of gravity would be. The tilts are drawn from
+    /// a stream of their own, so every scene is otherwise the same as
+    /// without them. Refused unless finite and non-negative.
+    pub fn with_up_vectors(mut self, error_deg: f64) -> Result<Self, ConfigError> {
+        if !(error_deg.is_finite() && error_deg >= 0.0) {
+            return Err(ConfigError::Invalid {
+                field: "up vector error".to_owned(),
+                message: format!("{error_deg} degrees: must be finite and non-negative"),
+            });
+        }
+        self.up_error = Some(error_deg.to_radians());
+        Ok(self)
     }
 
     pub fn named(mut self, name: &str) -> Self {
@@ -141,6 +163,25 @@ impl Generator {
             rng,
         );
         let human_graph = human_graph.map_err(invalid(Side::Human))?;
+        let (robot_graph, human_graph) = match self.up_error {
+            Some(error) => {
+                let mut tilts = ChaCha8Rng::seed_from_u64(self.seed ^ UP_STREAM);
+                tilts.set_stream(index);
+                let up = |camera: &Camera, tilts: &mut ChaCha8Rng| {
+                    let up = tilted(&camera.direction_to_camera(&Vector3::z()), error, tilts);
+                    Some(up.into())
+                };
+                (
+                    robot_graph
+                        .with_up(up(&robot.camera, &mut tilts))
+                        .map_err(invalid(Side::Robot))?,
+                    human_graph
+                        .with_up(up(&human.camera, &mut tilts))
+                        .map_err(invalid(Side::Human))?,
+                )
+            }
+            None => (robot_graph, human_graph),
+        };
 
         let mut ground_truth: Vec<(u64, u64)> = human
             .sightings
@@ -188,6 +229,25 @@ impl Generator {
         let graph = SceneGraph::new(graph_objects, None, &Limits::default());
         (graph, View { camera, sightings })
     }
+}
+
+/// Seeds the up vectors' tilts apart from everything else a scene draws.
+const UP_STREAM: u64 = 0x7570_7570_7570_7570;
+
+/// Unit vector `up` tilted by an angle of standard deviation `sigma`
+/// (radians) about a random axis across it.
+fn tilted<R: Rng>(up: &Vector3<f64>, sigma: f64, rng: &mut R) -> Vector3<f64> {
+    let angle = crate::random::normal(rng, sigma);
+    let heading = crate::random::uniform(rng, [0.0, std::f64::consts::TAU]);
+    let across = if up.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let a = up.cross(&across).normalize();
+    let b = up.cross(&a);
+    let axis = nalgebra::Unit::new_normalize(a * heading.cos() + b * heading.sin());
+    nalgebra::Rotation3::from_axis_angle(&axis, angle) * up
 }
 
 /// `count` distinct track ids.

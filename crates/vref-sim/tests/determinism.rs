@@ -64,3 +64,39 @@ fn scenes_within_a_run_differ() {
     assert_eq!(a.pair.name, "sim-5-0");
     assert_eq!(b.pair.name, "sim-5-1");
 }
+
+#[test]
+fn up_vectors_are_the_cameras_vertical_and_change_nothing_else() {
+    use nalgebra::Vector3;
+    for preset in Preset::ALL {
+        let plain = Generator::new(preset.config(), 7).unwrap();
+        let exact = plain.clone().with_up_vectors(0.0).unwrap();
+        let tilted = plain.clone().with_up_vectors(2.0).unwrap();
+        for k in 0..4 {
+            let (a, b, c) = (
+                plain.scene(k).unwrap(),
+                exact.scene(k).unwrap(),
+                tilted.scene(k).unwrap(),
+            );
+            assert_eq!(a.pair.robot.objects(), b.pair.robot.objects());
+            assert_eq!(a.pair.human.objects(), c.pair.human.objects());
+            assert_eq!(a.pair.robot.up(), None);
+            for (view, exact_up, tilted_up) in [
+                (&b.robot, b.pair.robot.up(), c.pair.robot.up()),
+                (&b.human, b.pair.human.up(), c.pair.human.up()),
+            ] {
+                let vertical = view.camera.direction_to_camera(&Vector3::z());
+                assert!((exact_up.unwrap() - vertical).norm() < 1e-12);
+                // Within five standard deviations of a 2-degree tilt.
+                let angle = tilted_up.unwrap().angle(&vertical).to_degrees();
+                assert!(angle < 10.0, "{preset} scene {k}: tilted {angle} degrees");
+            }
+        }
+    }
+    assert!(
+        Generator::new(Preset::Moi.config(), 1)
+            .unwrap()
+            .with_up_vectors(f64::NAN)
+            .is_err()
+    );
+}

@@ -234,6 +234,12 @@ pub struct ScenesArgs {
     /// Output dataset file, written whole or not at all (default: stdout).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Give each view its camera's up vector (gravity, camera frame),
+    /// tilted by an error of DEG degrees (standard deviation), as a
+    /// headset or robot estimates it; the scenes are otherwise the same.
+    /// Not with --preset rigid.
+    #[arg(long, value_name = "DEG")]
+    pub up_vectors: Option<f64>,
 }
 
 #[derive(Debug, Subcommand)]

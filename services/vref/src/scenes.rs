@@ -38,6 +38,9 @@ pub fn run(args: &ScenesArgs) -> Result<(), Failure> {
     if args.count == 0 {
         return Err(anyhow!("--count: must be at least 1")).bad_input();
     }
+    if args.up_vectors.is_some() && args.preset == "rigid" {
+        return Err(anyhow!("--up-vectors applies to moi and mrc only")).bad_input();
+    }
     let source = match (args.preset.as_str(), args.objects) {
         ("rigid", Some(objects)) => {
             // Checked here so that a bad size is bad input, not a failure
@@ -58,12 +61,17 @@ pub fn run(args: &ScenesArgs) -> Result<(), Failure> {
         }
         (name, None) => {
             let preset: Preset = name.parse().context("--preset").bad_input()?;
-            Source::Preset(Box::new(
-                Generator::new(preset.config(), args.seed)
-                    .with_context(|| format!("preset {preset}"))
-                    .bad_input()?
-                    .named(preset.name()),
-            ))
+            let mut generator = Generator::new(preset.config(), args.seed)
+                .with_context(|| format!("preset {preset}"))
+                .bad_input()?
+                .named(preset.name());
+            if let Some(error) = args.up_vectors {
+                generator = generator
+                    .with_up_vectors(error)
+                    .context("--up-vectors")
+                    .bad_input()?;
+            }
+            Source::Preset(Box::new(generator))
         }
     };
     let generator = &source;
