@@ -102,6 +102,7 @@ impl BopWorld {
             robot_image: 0,
             human_image: 1,
             perception,
+            world_up: None,
         };
         let mut pairs = Vec::new();
         let mut sources = Vec::new();

@@ -24,6 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         robot_image: 0,
         human_image: 1,
         perception,
+        world_up: None,
     };
     println!(
         "dataset camera scenes objects | dist p50 p90 | along p50 (signed) | across p50  (mm)"

@@ -16,6 +16,7 @@ fn options() -> BopOptions {
         robot_image: 0,
         human_image: 1,
         perception: PerceptionSettings::default(),
+        world_up: None,
     }
 }
 
@@ -168,4 +169,38 @@ fn a_dataset_without_scenes_is_an_error() {
     assert!(matches!(err, ImportError::NoScenes { .. }), "{err}");
     let err = BopDataset::open(dir.path(), "val").unwrap_err();
     assert!(chain(&err).contains("val"), "{err}");
+}
+
+#[test]
+fn with_the_worlds_up_each_view_carries_its_cameras_up_vector() {
+    let (_dir, dataset) = two_scenes();
+    let data = BopDataset::open(&dataset, "test").unwrap();
+    let scene = &data.scenes()[0];
+    let limits = vref_scene::Limits::default();
+    let plain = BopScene::measure(&data, scene, &options()).unwrap();
+    assert_eq!(plain.pair(&limits).unwrap().robot.up(), None);
+    let upright = BopOptions {
+        world_up: Some([0.0, 0.0, 2.0]),
+        ..options()
+    };
+    let measured = BopScene::measure(&data, scene, &upright).unwrap();
+    let pair = measured.pair(&limits).unwrap();
+    // The third column of each image's cam_R_w2c (the world's z).
+    let cameras: serde_json::Value = serde_json::from_str(
+        &fs::read_to_string(dataset.join("test/000000/scene_camera.json")).unwrap(),
+    )
+    .unwrap();
+    for (image, up) in [("0", pair.robot.up()), ("1", pair.human.up())] {
+        let r = &cameras[image]["cam_R_w2c"];
+        let column = [2, 5, 8].map(|k| r[k].as_f64().unwrap());
+        let up = up.unwrap();
+        for (a, b) in [up.x, up.y, up.z].iter().zip(column) {
+            assert!(
+                (a - b).abs() < 1e-9,
+                "image {image}: {up:?} against {column:?}"
+            );
+        }
+    }
+    // The objects are measured as without it.
+    assert_eq!(plain.robot.detections, measured.robot.detections);
 }

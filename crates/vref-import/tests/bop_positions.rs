@@ -28,6 +28,7 @@ fn errors(preset: &str, centre_offset: f64) -> [(Vec<f64>, Vec<f64>); 2] {
             centre_offset,
             ..PerceptionSettings::default()
         },
+        world_up: None,
     };
     let mut out = [(Vec::new(), Vec::new()), (Vec::new(), Vec::new())];
     for scene in dataset.scenes() {

@@ -274,6 +274,12 @@ pub struct BopArgs {
     /// [perception] min_pixels).
     #[arg(long, value_name = "N")]
     pub min_pixels: Option<usize>,
+    /// The up direction (against gravity) of the dataset's world frame,
+    /// e.g. 0,0,1: each view then carries its camera's up vector from
+    /// cam_R_w2c (BOP does not say which way its worlds stand; the
+    /// rendered scenes of ../shared/data/bop stand on z). Default: none.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_direction)]
+    pub world_up: Option<[f64; 3]>,
     /// Output dataset file, written whole or not at all (default: stdout).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -319,6 +325,26 @@ pub enum ConfigCommand {
 pub struct ConfigCheckArgs {
     /// The file to check.
     pub file: PathBuf,
+}
+
+/// Three comma-separated finite numbers, not all zero.
+fn parse_direction(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let [x, y, z] = parts.as_slice() else {
+        return Err(format!("{s:?}: expected X,Y,Z"));
+    };
+    let number = |p: &str| {
+        p.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("{p:?} is not a finite number"))
+    };
+    let v = [number(x)?, number(y)?, number(z)?];
+    if v.iter().all(|&c| c == 0.0) {
+        return Err("a direction cannot be 0,0,0".to_owned());
+    }
+    Ok(v)
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {

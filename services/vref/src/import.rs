@@ -41,6 +41,7 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
         robot_image: args.robot_image,
         human_image: args.human_image,
         perception,
+        world_up: args.world_up,
     };
     let import = BopImport::run(&dataset, &options);
     let skipped = import.skipped();

@@ -73,6 +73,7 @@ fn bop(args: &VizArgs, dir: &Path, config: &Config, params: &Params) -> Result<(
         robot_image: 0,
         human_image: 1,
         perception: config.perception,
+        world_up: None,
     };
     let scene = BopScene::measure(&dataset, scene_dir, &options).bad_input()?;
     let pair = scene.pair(&config.scene.limits()).bad_input()?;

@@ -42,6 +42,9 @@ pub struct BopView {
     pub origins: Vec<[f64; 3]>,
     /// Each instance's `obj_id`.
     pub object_ids: Vec<u32>,
+    /// `cam_R_w2c`: the world-to-camera rotation, row-major, where the
+    /// dataset gives it.
+    pub world_to_camera: Option<[f64; 9]>,
 }
 
 #[derive(Deserialize)]
@@ -50,6 +53,9 @@ struct CameraRecord {
     cam_k: [f64; 9],
     #[serde(default = "unit_scale")]
     depth_scale: f64,
+    /// World to camera rotation, row-major; absent in some datasets.
+    #[serde(rename = "cam_R_w2c", default)]
+    cam_r_w2c: Option<[f64; 9]>,
 }
 
 fn unit_scale() -> f64 {
@@ -188,6 +194,7 @@ impl BopSceneDir {
                 .map(|g| g.cam_t_m2c.map(|v| v / 1000.0))
                 .collect(),
             object_ids: instances.iter().map(|g| g.obj_id).collect(),
+            world_to_camera: camera.cam_r_w2c,
         })
     }
 

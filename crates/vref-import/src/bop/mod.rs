@@ -23,6 +23,11 @@ pub struct BopOptions {
     pub robot_image: u32,
     pub human_image: u32,
     pub perception: PerceptionSettings,
+    /// The up direction (against gravity) in the dataset's world frame:
+    /// with it, each view carries its camera's up vector from `cam_R_w2c`.
+    /// BOP does not say which way its worlds stand, so it is the user's to
+    /// give (the rendered scenes of ../shared/data/bop: `[0, 0, 1]`).
+    pub world_up: Option<[f64; 3]>,
 }
 
 /// Track ids of robot objects start here, of human objects at
@@ -40,6 +45,8 @@ pub struct MeasuredView {
     /// Track id of every instance, measured or not.
     pub track_ids: Vec<u64>,
     pub skipped: Skipped,
+    /// Which way is up in the camera frame, where known.
+    pub up: Option<[f64; 3]>,
 }
 
 impl MeasuredView {
@@ -76,6 +83,7 @@ impl MeasuredView {
             instances,
             track_ids,
             skipped,
+            up: None,
         })
     }
 
@@ -94,7 +102,7 @@ impl MeasuredView {
             .iter()
             .map(|d| SceneObject::new(d.id, d.position, d.feature.to_vec()).with_sigma(d.sigma))
             .collect();
-        SceneGraph::new(objects, None, limits)
+        SceneGraph::new(objects, None, limits)?.with_up(self.up)
     }
 }
 
@@ -119,11 +127,16 @@ impl BopScene {
         let view = |image: u32, base: u64, front_end: &mut FrontEnd| {
             let loaded = scene.load_view(image)?;
             let ids = track_ids(scene.id, image, loaded.masks.len(), base);
-            MeasuredView::measure(&loaded, ids, front_end).map_err(|source| ImportError::Frame {
-                path: scene.dir.clone(),
-                image,
-                source,
-            })
+            let mut measured =
+                MeasuredView::measure(&loaded, ids, front_end).map_err(|source| {
+                    ImportError::Frame {
+                        path: scene.dir.clone(),
+                        image,
+                        source,
+                    }
+                })?;
+            measured.up = camera_up(&loaded, options.world_up);
+            Ok::<_, ImportError>(measured)
         };
         Ok(Self {
             name: dataset.scene_name(scene),
@@ -163,6 +176,14 @@ impl BopScene {
             }
         })
     }
+}
+
+/// The world's `world_up` in `view`'s camera frame, where both are known.
+fn camera_up(view: &BopView, world_up: Option<[f64; 3]>) -> Option<[f64; 3]> {
+    let (r, up) = (view.world_to_camera?, world_up?);
+    Some(std::array::from_fn(|row| {
+        (0..3).map(|k| r[3 * row + k] * up[k]).sum::<f64>()
+    }))
 }
 
 /// Track ids of a view's `n` instances: `base` plus the instance's place
