@@ -68,6 +68,8 @@ pub struct Scenes {
     pub objects: usize,
     pub seed: u64,
     pub noise: f64,
+    /// Whether both views carry their up vectors ([`RigidScene::upright`]).
+    pub up: bool,
 }
 
 impl Scenes {
@@ -77,6 +79,7 @@ impl Scenes {
             objects,
             seed,
             noise: POSITION_NOISE,
+            up: false,
         }
     }
 }
@@ -108,6 +111,8 @@ pub struct RigidScene {
     features: Vec<Vec<f32>>,
     /// Robot object `r` is human object `order[r]`.
     order: Vec<usize>,
+    /// The rotation taking human positions to robot positions.
+    rotation: [[f64; 3]; 3],
 }
 
 impl RigidScene {
@@ -159,6 +164,18 @@ impl RigidScene {
             positions,
             features,
             order,
+            rotation: motion.rotation,
+        })
+    }
+
+    /// The scene with both views' up vectors: the human view's z, and
+    /// where the motion turns it in the robot's.
+    pub fn upright(self) -> Result<Self, BenchError> {
+        let up = self.rotation.map(|row| row[2]);
+        Ok(Self {
+            human: self.human.clone().with_up(Some([0.0, 0.0, 1.0]))?,
+            robot: self.robot.clone().with_up(Some(up))?,
+            ..self
         })
     }
 
@@ -197,11 +214,12 @@ impl RigidScene {
             *p += MOVE_STEP * d / norm;
         }
         Ok(Self {
-            human: graph(&positions, &self.features)?,
+            human: graph(&positions, &self.features)?.with_up(self.human.up().map(Into::into))?,
             robot: self.robot.clone(),
             positions,
             features: self.features.clone(),
             order: self.order.clone(),
+            rotation: self.rotation,
         })
     }
 }
@@ -225,9 +243,13 @@ pub fn time_solver(
         objects,
         seed,
         noise,
+        up,
     } = spec;
     let scenes = (0..DISTINCT_SCENES.min(repeats))
-        .map(|s| RigidScene::with_noise(objects, seed.wrapping_add(s as u64), noise))
+        .map(|s| {
+            let scene = RigidScene::with_noise(objects, seed.wrapping_add(s as u64), noise)?;
+            if up { scene.upright() } else { Ok(scene) }
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let mut micros = Vec::with_capacity(repeats);
     let mut iterations = Vec::with_capacity(repeats);

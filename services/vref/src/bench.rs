@@ -40,6 +40,7 @@ pub fn solver(args: &BenchSolverArgs) -> Result<(), Failure> {
                         objects,
                         seed: args.seed,
                         noise: args.noise,
+                        up: args.up_vectors,
                     };
                     let timing = time_solver(method, tier, scenes, mode, &params, args.repeats)
                         .with_context(|| format!("{method} ({tier}) at {objects} objects"))

@@ -821,6 +821,10 @@ pub struct BenchSolverArgs {
     /// `rigid` run its whole search.
     #[arg(long, value_name = "METRES", default_value_t = vref_match::bench::POSITION_NOISE)]
     pub noise: f64,
+    /// Both views carry their up vectors (exact: the motion turns the
+    /// human view's up into the robot's), as `rigid` uses them.
+    #[arg(long)]
+    pub up_vectors: bool,
     /// Print one JSON object per method, size and mode instead of a table.
     #[arg(long)]
     pub json: bool,

@@ -54,6 +54,7 @@ pub(super) fn search(
     let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
     // Every sample checks its pairs' distances: computed once.
     let (human_d, robot_d) = (distances(hp), distances(rpos));
+    let heights = heights(problem);
     let mut top: Vec<Scored> = Vec::new();
     let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
     let mut consistent: Vec<usize> = Vec::with_capacity(m);
@@ -109,6 +110,7 @@ pub(super) fn search(
             m,
             tolerance,
             min_edge,
+            heights: heights.as_ref().map(|(h, r)| (h.as_slice(), r.as_slice())),
         };
         let mut scored = 0;
         let mut attempts = 0;
@@ -220,6 +222,7 @@ pub(super) fn chance_inliers(
     }
     let tolerance = 3.0 * costs.typical;
     let (human_d, robot_d) = (distances(hp), distances(rpos));
+    let heights = heights(problem);
     let edges = Edges {
         human: &human_d,
         robot: &robot_d,
@@ -227,6 +230,7 @@ pub(super) fn chance_inliers(
         m,
         tolerance,
         min_edge: f64::NEG_INFINITY,
+        heights: heights.as_ref().map(|(h, r)| (h.as_slice(), r.as_slice())),
     };
     let probes = probe_points(hp);
     let side = Side::of(problem);
@@ -364,6 +368,10 @@ struct Edges<'a> {
     tolerance: f64,
     /// Human edges this short or shorter are not used.
     min_edge: f64,
+    /// Each object's height along its view's up vector (human, robot),
+    /// where both views know it: a pair of pairs must agree in the rise
+    /// between them too, which no turn about up changes.
+    heights: Option<(&'a [f64], &'a [f64])>,
 }
 
 impl Edges<'_> {
@@ -379,6 +387,26 @@ impl Edges<'_> {
     fn agrees(&self, d: f64, a: usize, b: usize) -> bool {
         a != b && (d - self.robot[a * self.m + b]).abs() <= self.tolerance
     }
+
+    /// Whether human objects `i` to `j` rise as much as robot objects `a`
+    /// to `b` (always, where the heights are unknown).
+    fn level(&self, i: usize, j: usize, a: usize, b: usize) -> bool {
+        self.heights
+            .is_none_or(|(h, r)| ((h[j] - h[i]) - (r[b] - r[a])).abs() <= self.tolerance)
+    }
+}
+
+/// Each object's height along its view's up vector, where both views
+/// know theirs.
+fn heights(problem: &Problem) -> Option<(Vec<f64>, Vec<f64>)> {
+    let (up_h, up_r) = problem.gravity()?;
+    let along = |points: &[nalgebra::Point3<f64>], up: &nalgebra::Vector3<f64>| {
+        points.iter().map(|p| p.coords.dot(up)).collect()
+    };
+    Some((
+        along(&problem.human_positions, &up_h),
+        along(&problem.robot_positions, &up_r),
+    ))
 }
 
 /// One sample of three candidate pairs, by guided sampling: the second and
@@ -402,17 +430,16 @@ fn draw_sample(
         // The human edges to the pairs drawn before are the row's, not each
         // candidate's: checked once (most samples fail here in scenes
         // whose tolerance is wide against their extent).
-        let mut before = [(0.0, 0); 2];
+        let mut before = [(0.0, 0, 0); 2];
         for (b, &(i, a)) in before.iter_mut().zip(&s[..k]) {
-            *b = (edges.human_edge(i, row)?, a);
+            *b = (edges.human_edge(i, row)?, i, a);
         }
         consistent.clear();
-        consistent.extend(
-            candidates[row]
+        consistent.extend(candidates[row].iter().copied().filter(|&col| {
+            before[..k]
                 .iter()
-                .copied()
-                .filter(|&col| before[..k].iter().all(|&(d, a)| edges.agrees(d, a, col))),
-        );
+                .all(|&(d, i, a)| edges.agrees(d, a, col) && edges.level(i, row, a, col))
+        }));
         if consistent.is_empty() {
             return None;
         }
@@ -742,6 +769,7 @@ mod tests {
             m,
             tolerance,
             min_edge,
+            heights: None,
         };
         let mut consistent = Vec::new();
         let (mut drawn, mut failed) = (0, 0);
