@@ -7,8 +7,10 @@
 # unrelated views made from the first seed of each (examples/unrelated,
 # seed 11, as tools/carryover-data.sh makes null-train/).
 #
-#   bash tools/carryover-data.sh && bash tools/gravity.sh
+#   bash tools/carryover-data.sh && bash tools/gravity.sh ['hypotheses = 50']
 #
+# An argument sets `[matching.rigid]` settings for the run, as
+# tools/rigid-train.sh's does.
 # Needs `cargo build --release -p vref --bins --examples` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +18,23 @@ cd "$(dirname "$0")/.."
 dir=${VREF_CARRY_DIR:-target/carry}
 up=$dir/up
 mkdir -p "$up"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+config=$work/vref.toml
+python3 - "${1:-}" "$config" <<'PY'
+import re, sys
+settings, out = sys.argv[1].encode().decode("unicode_escape"), sys.argv[2]
+text = open("config/vref.toml").read()
+head, sep, rest = text.partition("[matching.rigid]")
+body, nxt, tail = rest.partition("\n[")
+for line in filter(None, (l.strip() for l in settings.splitlines())):
+    key = line.split("=")[0].strip()
+    body, n = re.subn(rf"(?m)^{re.escape(key)}\s*=.*$", line, body, count=1)
+    if n == 0:
+        sys.exit(f"gravity.sh: no {key} in [matching.rigid]")
+open(out, "w").write(head + sep + body + nxt + tail)
+PY
+echo "settings: ${1:-defaults}"
 for preset in moi mrc; do
   for seed in $(seq 100 109); do
     [ -s "$up/$preset$seed.jsonl" ] ||
@@ -29,7 +48,7 @@ for preset in moi mrc; do
   for where in "$dir" "$up"; do
     label="sim $preset, $([ "$where" = "$up" ] && echo "with up vectors" || echo "without")"
     for seed in $(seq 100 109); do
-      "$vref" eval --dataset "$where/$preset$seed.jsonl" --method rigid --json
+      "$vref" eval --dataset "$where/$preset$seed.jsonl" --method rigid --json --config "$config"
     done | python3 -c '
 import json, sys
 r = [json.loads(l) for l in sys.stdin]
@@ -39,8 +58,6 @@ print("| %s | %.4f | %.4f (%.3f) | %.4f (%.3f) | %.0f us |" % (sys.argv[1],
       mean("ece"), max(x["ece"] for x in r), mean("mean_solve_us")))' "$label"
   done
 done
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 target/release/examples/unrelated 11 "$work/without" "$dir/moi100.jsonl" "$dir/mrc100.jsonl"
 target/release/examples/unrelated 11 "$work/with" "$up/moi100.jsonl" "$up/mrc100.jsonl"
 echo
@@ -49,7 +66,7 @@ echo "|---|---|---|"
 for kind in moi100-across moi100-shuffled mrc100-across mrc100-shuffled; do
   cells=""
   for side in without with; do
-    "$vref" eval --dataset "$work/$side/$kind.jsonl" --method rigid --answers "$work/a.jsonl" --json > /dev/null
+    "$vref" eval --dataset "$work/$side/$kind.jsonl" --method rigid --answers "$work/a.jsonl" --json --config "$config" > /dev/null
     cells+=" | $(python3 -c '
 import json, sys
 rows = [json.loads(l) for l in open(sys.argv[1])]
