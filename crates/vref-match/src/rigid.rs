@@ -30,22 +30,7 @@ impl RigidMotion {
     /// instead of fitting. `None` when the inputs differ in length, have no
     /// positive total weight or are not finite.
     pub fn fit(from: &[Point3<f64>], to: &[Point3<f64>], weights: &[f64]) -> Option<Self> {
-        if from.len() != to.len() || from.len() != weights.len() || from.is_empty() {
-            return None;
-        }
-        let total: f64 = weights.iter().filter(|w| **w > 0.0).sum();
-        if !(total.is_finite() && total > 0.0) {
-            return None;
-        }
-        let mut cf = Vector3::zeros();
-        let mut ct = Vector3::zeros();
-        for ((p, q), &w) in from.iter().zip(to).zip(weights) {
-            let w = w.max(0.0);
-            cf += w * p.coords;
-            ct += w * q.coords;
-        }
-        cf /= total;
-        ct /= total;
+        let (cf, ct) = centroids(from, to, weights)?;
         let mut h = Matrix3::zeros();
         for ((p, q), &w) in from.iter().zip(to).zip(weights) {
             h += w.max(0.0) * (p.coords - cf) * (q.coords - ct).transpose();
@@ -80,24 +65,9 @@ impl RigidMotion {
         up_from: &Vector3<f64>,
         up_to: &Vector3<f64>,
     ) -> Option<Self> {
-        if from.len() != to.len() || from.len() != weights.len() || from.is_empty() {
-            return None;
-        }
-        let total: f64 = weights.iter().filter(|w| **w > 0.0).sum();
-        if !(total.is_finite() && total > 0.0) {
-            return None;
-        }
+        let (cf, ct) = centroids(from, to, weights)?;
         let level = align(up_from, up_to)?;
         let axis = nalgebra::Unit::new_normalize(*up_to);
-        let mut cf = Vector3::zeros();
-        let mut ct = Vector3::zeros();
-        for ((p, q), &w) in from.iter().zip(to).zip(weights) {
-            let w = w.max(0.0);
-            cf += w * p.coords;
-            ct += w * q.coords;
-        }
-        cf /= total;
-        ct /= total;
         // The turn about `up_to` that best takes the levelled offsets to
         // the targets' offsets, in the plane across it: atan2 of the summed
         // cross and dot products.
@@ -158,6 +128,31 @@ pub fn median_spacing(points: &[Point3<f64>]) -> Option<f64> {
     nearest.sort_by(f64::total_cmp);
     let median = nearest[nearest.len() / 2];
     (median.is_finite() && median > 0.0).then_some(median)
+}
+
+/// The weighted centroids of `from` and `to` (negative weights count 0);
+/// `None` when the inputs differ in length, are empty or have no positive
+/// finite total weight.
+fn centroids(
+    from: &[Point3<f64>],
+    to: &[Point3<f64>],
+    weights: &[f64],
+) -> Option<(Vector3<f64>, Vector3<f64>)> {
+    if from.len() != to.len() || from.len() != weights.len() || from.is_empty() {
+        return None;
+    }
+    let total: f64 = weights.iter().filter(|w| **w > 0.0).sum();
+    if !(total.is_finite() && total > 0.0) {
+        return None;
+    }
+    let mut cf = Vector3::zeros();
+    let mut ct = Vector3::zeros();
+    for ((p, q), &w) in from.iter().zip(to).zip(weights) {
+        let w = w.max(0.0);
+        cf += w * p.coords;
+        ct += w * q.coords;
+    }
+    Some((cf / total, ct / total))
 }
 
 /// The smallest rotation taking unit vector `a` to unit vector `b`; for
