@@ -69,6 +69,8 @@ fn bad_values_are_errors_naming_the_parameter() {
             "[matcher]\nambiguity_threshold = 2.0\n",
             "ambiguity_threshold",
         ),
+        ("[matcher]\nfit_limit = 0.0\n", "fit_limit"),
+        ("[matcher]\nfit_limit = nan\n", "fit_limit"),
         ("[matcher]\ntier = \"fast\"\n", "fast"),
         ("[matcher]\nray_max_age_ms = 0\n", "ray_max_age_ms"),
         ("[matcher]\nmax_clock_skew_ms = 500\n", "max_clock_skew_ms"),
