@@ -173,7 +173,7 @@ fn run_all(tag: &str, faults: &[Fault]) {
 }
 
 #[test]
-fn malformed_positions_and_ids_are_refused_and_the_last_good_snapshot_stays() {
+fn malformed_positions_ids_and_up_vectors_are_refused_and_the_last_good_snapshot_stays() {
     run_all(
         "pos",
         &[
@@ -200,6 +200,12 @@ fn malformed_positions_and_ids_are_refused_and_the_last_good_snapshot_stays() {
                 side: "human",
                 reason: "duplicate_id",
                 defect: "appears more than once",
+            },
+            Fault {
+                kind: "bad-up",
+                side: "human",
+                reason: "bad_up",
+                defect: "up is [0.0, 0.0, 0.0], not a finite non-zero direction",
             },
         ],
     );
@@ -315,6 +321,7 @@ fn an_unknown_kind_is_bad_input_and_lists_the_kinds() {
         "old-stamp",
         "hijack-sequence",
         "hijack-ray",
+        "bad-up",
     ] {
         assert!(run.stderr.contains(kind), "{kind} missing:\n{}", run.stderr);
     }

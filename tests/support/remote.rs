@@ -166,6 +166,7 @@ pub fn human_view_json(session: u64, sequence: u64) -> Vec<u8> {
         session,
         sequence,
         frame_name: Some("test_headset".to_owned()),
+        up: None,
         objects,
     })
 }
@@ -189,6 +190,8 @@ pub fn human_view_binary(
         object_count: entries.len() as u32,
         feature_dim: VALID_FEATURE_DIM as u32,
         frame_name,
+        up: [0.0; 3],
+        flags: 0,
     };
     binary::encode_snapshot(&header, &entries)
 }

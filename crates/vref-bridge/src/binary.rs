@@ -12,7 +12,7 @@ use vref_wire::{
 
 use crate::CodecError;
 
-pub const SNAPSHOT_HEADER_BYTES: usize = 3 * 8 + 4 * 4 + FRAME_NAME_LEN;
+pub const SNAPSHOT_HEADER_BYTES: usize = 3 * 8 + 4 * 4 + FRAME_NAME_LEN + 3 * 4 + 4;
 pub const OBJECT_ENTRY_BYTES: usize = 8 + 6 * 4 + MAX_FEATURE_DIM * 4;
 pub const RAY_BYTES: usize = 3 * 8 + 10 * 4;
 pub const QUERY_BYTES: usize = 2 * 8 + 10 * 4;
@@ -34,6 +34,8 @@ pub fn encode_snapshot(header: &SnapshotHeader, entries: &[ObjectEntry]) -> Vec<
         header.feature_dim,
     ]);
     w.bytes(&header.frame_name);
+    w.f32s(&header.up);
+    w.u32s(&[header.flags]);
     for e in entries {
         w.u64s(&[e.track_id]);
         w.f32s(&e.position);
@@ -57,6 +59,8 @@ pub fn decode_snapshot(bytes: &[u8]) -> Result<(SnapshotHeader, Vec<ObjectEntry>
         object_count: r.u32(),
         feature_dim: r.u32(),
         frame_name: r.array(),
+        up: r.f32s(),
+        flags: r.u32(),
     };
     if header.object_count as usize != carried {
         return Err(CodecError::Count {
@@ -437,6 +441,8 @@ mod tests {
             object_count: count,
             feature_dim: 4,
             frame_name,
+            up: [0.0; 3],
+            flags: 0,
         }
     }
 
@@ -448,6 +454,29 @@ mod tests {
         // The session is the first field, least significant byte first.
         assert_eq!(&bytes[..8], &[8, 7, 6, 5, 4, 3, 2, 1]);
         assert_eq!(decode_snapshot(&bytes), Ok((header(3), entries)));
+    }
+
+    #[test]
+    fn an_up_vector_and_its_flag_round_trip() {
+        let mut h = header(1);
+        h.set_up(Some([0.25, -1.0, f32::MIN_POSITIVE]));
+        let bytes = encode_snapshot(&h, &[entry(1)]);
+        let (back, _) = decode_snapshot(&bytes).unwrap();
+        assert_eq!(back, h);
+        assert_eq!(back.up(), Some([0.25, -1.0, f32::MIN_POSITIVE]));
+        // The flags are the header's last field, before the objects.
+        let flags = SNAPSHOT_HEADER_BYTES - 4;
+        assert_eq!(
+            bytes[flags..flags + 4],
+            SnapshotHeader::FLAG_UP.to_le_bytes()
+        );
+        assert_eq!(
+            decode_snapshot(&encode_snapshot(&header(0), &[]))
+                .unwrap()
+                .0
+                .up(),
+            None
+        );
     }
 
     #[test]

@@ -394,6 +394,7 @@ mod tests {
             session,
             sequence,
             frame_name: Some("quest".to_owned()),
+            up: None,
             objects: objects(),
         })
     }
@@ -424,6 +425,8 @@ mod tests {
             object_count: 3,
             feature_dim: 2,
             frame_name,
+            up: [0.0; 3],
+            flags: 0,
         };
         binary::encode_snapshot(&header, &entries)
     }
@@ -513,6 +516,66 @@ mod tests {
             .snapshot(format::JSON, &json_snapshot(1, 11), at, 0)
             .unwrap();
         assert_eq!(h.sequence, 2);
+    }
+
+    /// The up vector passes through both encodings into the header the
+    /// bridge publishes, and is checked as strictly as from shared memory.
+    #[test]
+    fn an_up_vector_passes_as_sent_and_a_bad_one_is_refused_as_bad_up() {
+        let mut intake = intake();
+        let t0 = Instant::now();
+        let step = Duration::from_millis(60);
+        let json_up = |sequence, up: &str| {
+            let text = String::from_utf8(json_snapshot(1, sequence)).unwrap();
+            text.replacen("{", &format!("{{\"up\": {up}, "), 1)
+                .into_bytes()
+        };
+        let binary_up = |sequence, up: [f32; 3]| {
+            let bytes = binary_snapshot(1, sequence, |_| {});
+            let (mut header, entries) = binary::decode_snapshot(&bytes).unwrap();
+            header.set_up(Some(up));
+            binary::encode_snapshot(&header, &entries)
+        };
+        let (h, _) = intake
+            .snapshot(format::JSON, &json_up(1, "[0, -2, 0]"), t0, 0)
+            .unwrap();
+        assert_eq!(h.up(), Some([0.0, -2.0, 0.0]));
+        let (h, _) = intake
+            .snapshot(&binary(), &binary_up(2, [0.0, 0.6, 0.8]), t0 + step, 0)
+            .unwrap();
+        assert_eq!(h.up(), Some([0.0, 0.6, 0.8]));
+        // Absent or null: unknown.
+        for (k, payload) in [json_snapshot(1, 3), json_up(4, "null")].iter().enumerate() {
+            let at = t0 + step * (k as u32 + 2);
+            let (h, _) = intake.snapshot(format::JSON, payload, at, 0).unwrap();
+            assert_eq!(h.up(), None);
+        }
+
+        let cases: Vec<(String, Vec<u8>, &str)> = vec![
+            (format::JSON.to_owned(), json_up(5, "[0, 0, 0]"), "bad_up"),
+            (
+                format::JSON.to_owned(),
+                json_up(6, "[0, 1e-9, 0]"),
+                "bad_up",
+            ),
+            // serde_json refuses a number beyond f32.
+            (
+                format::JSON.to_owned(),
+                json_up(11, "[1e39, 0, 0]"),
+                "malformed",
+            ),
+            (binary(), binary_up(7, [f32::NAN, 1.0, 0.0]), "bad_up"),
+            (binary(), binary_up(8, [0.0, 1e-9, 0.0]), "bad_up"),
+            (format::JSON.to_owned(), json_up(9, "[0, 1]"), "malformed"),
+            (format::JSON.to_owned(), json_up(10, "\"up\""), "malformed"),
+        ];
+        for (i, (encoding, payload, reason)) in cases.iter().enumerate() {
+            let at = t0 + step * (i as u32 + 4);
+            let refusal = intake.snapshot(encoding, payload, at, 0).unwrap_err();
+            assert_eq!(refusal.name(), *reason, "case {i}: {refusal}");
+        }
+        let c = intake.snapshot_counters();
+        assert_eq!((c.passed, c.refused.get("bad_up")), (4, Some(&4)));
     }
 
     #[test]

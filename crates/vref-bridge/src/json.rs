@@ -3,7 +3,7 @@
 //! `vref query --json`); unknown fields are errors, as in vref.toml, so a
 //! misspelt field is refused rather than silently defaulted. Numbers that
 //! JSON cannot hold (NaN, infinities) cannot be written at all, and values
-//! beyond f32 read as infinite, which validation then refuses.
+//! beyond f32 are refused as out of range when decoding.
 
 use std::collections::BTreeMap;
 
@@ -47,6 +47,10 @@ pub struct SnapshotIn {
     /// The headset's camera frame; default "headset".
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frame_name: Option<String>,
+    /// Which way is up (against gravity) in that frame, any non-zero
+    /// length; absent if unknown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up: Option<[f32; 3]>,
     pub objects: Vec<ObjectJson>,
 }
 
@@ -59,6 +63,10 @@ pub struct SnapshotOut {
     /// Capture time, nanoseconds since the Unix epoch (robot clock).
     pub timestamp_ns: u64,
     pub frame_name: String,
+    /// Which way is up in that frame (as the snapshot carried it, unit
+    /// length from a vref feed); absent if unknown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up: Option<[f32; 3]>,
     pub objects: Vec<ObjectJson>,
 }
 
@@ -249,7 +257,7 @@ pub fn decode_snapshot(bytes: &[u8]) -> Result<(SnapshotHeader, Vec<ObjectEntry>
             }
         })
         .collect::<Vec<_>>();
-    let header = SnapshotHeader {
+    let mut header = SnapshotHeader {
         session: snapshot.session,
         sequence: snapshot.sequence,
         timestamp_ns: 0,
@@ -259,7 +267,12 @@ pub fn decode_snapshot(bytes: &[u8]) -> Result<(SnapshotHeader, Vec<ObjectEntry>
         // Longer than the wire holds: validation refuses it by this.
         feature_dim: u32::try_from(dim).unwrap_or(u32::MAX),
         frame_name,
+        up: [0.0; 3],
+        flags: 0,
     };
+    // Checked by validation, as from shared memory: a zero or infinite
+    // up vector is refused there.
+    header.set_up(snapshot.up);
     Ok((header, entries))
 }
 
@@ -271,6 +284,7 @@ pub fn encode_snapshot(header: &SnapshotHeader, entries: &[ObjectEntry]) -> Vec<
         sequence: header.sequence,
         timestamp_ns: header.timestamp_ns,
         frame_name: zero_padded(&header.frame_name),
+        up: header.up(),
         objects: entries
             .iter()
             .map(|e| ObjectJson {
@@ -561,6 +575,33 @@ mod tests {
     }
 
     #[test]
+    fn an_up_vector_goes_in_and_out_as_json() {
+        let text = br#"{"session": 5, "sequence": 2, "up": [0, -0.6, 0.8], "objects": [
+            {"track_id": 1, "position": [0.1, 0.0, 0.8]}]}"#;
+        let (header, entries) = decode_snapshot(text).unwrap();
+        assert_eq!(header.up(), Some([0.0, -0.6, 0.8]));
+        let out = decode_snapshot_out(&encode_snapshot(&header, &entries)).unwrap();
+        assert_eq!(out.up, Some([0.0, -0.6, 0.8]));
+        // Without one: absent in, absent out.
+        let text = br#"{"session": 5, "sequence": 3, "objects": []}"#;
+        let (header, entries) = decode_snapshot(text).unwrap();
+        assert_eq!((header.up(), header.flags), (None, 0));
+        let out = encode_snapshot(&header, &entries);
+        let value: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        assert!(value.get("up").is_none(), "{value}");
+        // A headset simulator's snapshot carries it too.
+        let snapshot = SnapshotIn {
+            session: 1,
+            sequence: 1,
+            frame_name: None,
+            up: Some([1.0, 0.0, 0.0]),
+            objects: vec![],
+        };
+        let (header, _) = decode_snapshot(&encode_snapshot_in(&snapshot)).unwrap();
+        assert_eq!(header.up(), Some([1.0, 0.0, 0.0]));
+    }
+
+    #[test]
     fn bad_json_is_refused_naming_what_is_wrong() {
         let cases: [(&[u8], &str); 7] = [
             (b"{", "EOF"),
@@ -623,6 +664,7 @@ mod tests {
             session: 1,
             sequence: 1,
             frame_name: None,
+            up: None,
             objects: vec![ObjectJson {
                 track_id: 1,
                 position: [0.0, 0.0, 1.0],

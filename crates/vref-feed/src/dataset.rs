@@ -6,16 +6,24 @@
 use std::path::Path;
 
 use vref_scene::{Limits, ScenePair, Side, read_dataset_file};
-use vref_wire::ObjectEntry;
+use vref_wire::{ObjectEntry, wire_up};
 
 use crate::entries::graph_entries;
 use crate::ticks::Ticker;
 use crate::{Due, Publication, SetupError};
 
+/// One view of a pair, as published.
+#[derive(Debug)]
+struct View {
+    feature_dim: usize,
+    entries: Vec<ObjectEntry>,
+    up: Option<[f32; 3]>,
+}
+
 #[derive(Debug)]
 pub(crate) struct DatasetSource {
-    /// Per pair: feature dimension and entries of this feed's view.
-    views: Vec<(usize, Vec<ObjectEntry>)>,
+    /// Per pair: this feed's view.
+    views: Vec<View>,
     hold_s: f64,
     snapshots: Ticker,
 }
@@ -59,7 +67,11 @@ impl DatasetSource {
                     Side::Human => &pair.human,
                 };
                 graph_entries(graph)
-                    .map(|entries| (graph.feature_dim(), entries))
+                    .map(|entries| View {
+                        feature_dim: graph.feature_dim(),
+                        entries,
+                        up: wire_up(graph),
+                    })
                     .map_err(|source| SetupError::Entry {
                         origin: format!("{origin}, scene {:?}", pair.name),
                         source,
@@ -88,16 +100,21 @@ impl DatasetSource {
         let slot = (tick.t / self.hold_s).floor() as i64;
         let count = i64::try_from(self.views.len()).unwrap_or(i64::MAX).max(1);
         let index = usize::try_from(slot.rem_euclid(count)).unwrap_or(0);
-        let (feature_dim, entries) = match self.views.get(index) {
-            Some((dim, entries)) => (*dim, entries.as_slice()),
-            None => (0, &[][..]),
+        let publication = match self.views.get(index) {
+            Some(view) => Publication::Snapshot {
+                feature_dim: view.feature_dim,
+                entries: &view.entries,
+                up: view.up,
+            },
+            None => Publication::Snapshot {
+                feature_dim: 0,
+                entries: &[],
+                up: None,
+            },
         };
         Due {
             at_ns: tick.at_ns,
-            publication: Publication::Snapshot {
-                feature_dim,
-                entries,
-            },
+            publication,
         }
     }
 }

@@ -191,8 +191,9 @@ impl Feed {
                 Publication::Snapshot {
                     feature_dim,
                     entries,
+                    up,
                 } => {
-                    snapshots.publish(entries.len(), feature_dim, due.at_ns, |i| entries[i])?;
+                    snapshots.publish(entries.len(), feature_dim, up, due.at_ns, |i| entries[i])?;
                     published.snapshots += 1;
                 }
                 Publication::Gesture { ray, target } => {

@@ -14,6 +14,9 @@ pub enum Publication<'a> {
     Snapshot {
         feature_dim: usize,
         entries: &'a [ObjectEntry],
+        /// The view's up vector, as the wire carries it, where the source
+        /// knows it.
+        up: Option<[f32; 3]>,
     },
     Gesture {
         ray: Ray,

@@ -29,6 +29,7 @@ enum Item {
     Snapshot {
         feature_dim: usize,
         entries: Vec<ObjectEntry>,
+        up: Option<[f32; 3]>,
     },
     Gesture(Ray),
 }
@@ -132,9 +133,11 @@ impl Replay {
             Some(Item::Snapshot {
                 feature_dim,
                 entries,
+                up,
             }) => Publication::Snapshot {
                 feature_dim: *feature_dim,
                 entries,
+                up: *up,
             },
             Some(Item::Gesture(ray)) => Publication::Gesture {
                 ray: *ray,
@@ -143,6 +146,7 @@ impl Replay {
             None => Publication::Snapshot {
                 feature_dim: 0,
                 entries: &[],
+                up: None,
             },
         };
         Due {
@@ -171,5 +175,8 @@ fn snapshot_item(s: &RecordedSnapshot) -> Result<Item, EntryError> {
     Ok(Item::Snapshot {
         feature_dim,
         entries,
+        // As recorded, unchecked like the rest: a replay reproduces a bad
+        // up vector too.
+        up: s.up,
     })
 }

@@ -138,6 +138,8 @@ impl Synthetic {
                 publication: Publication::Snapshot {
                     feature_dim: self.feature_dim,
                     entries: &self.entries,
+                    // A live view says nothing of gravity (yet).
+                    up: None,
                 },
             });
         }

@@ -32,10 +32,11 @@ fn prepare(role: Role, args: &FeedArgs) -> Result<Feed, SetupError> {
     Feed::prepare(role, args, &Config::default())
 }
 
-/// What a due publication is, owned.
+/// What a due publication is, owned: a snapshot's feature dimension,
+/// entries and up vector, or a ray's target.
 #[derive(Debug, Clone, PartialEq)]
 enum Owned {
-    Snapshot(usize, Vec<ObjectEntry>),
+    Snapshot(usize, Vec<ObjectEntry>, Option<[f32; 3]>),
     Gesture(u64),
 }
 
@@ -56,7 +57,8 @@ fn schedule(feed: &mut Feed, start: u64, n: usize) -> Vec<(u64, Owned)> {
                 Publication::Snapshot {
                     feature_dim,
                     entries,
-                } => Owned::Snapshot(feature_dim, entries.to_vec()),
+                    up,
+                } => Owned::Snapshot(feature_dim, entries.to_vec(), up),
                 Publication::Gesture { target, .. } => {
                     Owned::Gesture(target.map_or(0, |t| t.human_id))
                 }
@@ -98,7 +100,7 @@ fn synthetic_snapshots_follow_the_rate_and_match_the_world() {
     let world = LiveWorld::new(Preset::Moi.config(), Dynamics::default(), 1, None).unwrap();
     let period = SECOND as f64 / 30.0;
     for (at, what) in &published {
-        let Owned::Snapshot(dim, entries) = what else {
+        let Owned::Snapshot(dim, entries, _) = what else {
             panic!("the perception feed pointed");
         };
         // Ticks are aligned to the epoch (0) and numbered from it.
@@ -217,6 +219,14 @@ fn scene_line(name: &str, robot_ids: &[u64], human_ids: &[u64], dim: usize) -> S
     )
 }
 
+/// `line` (of [`scene_line`]) with `side`'s view given an up vector.
+fn with_up(line: &str, side: &str, up: [f64; 3]) -> String {
+    let [x, y, z] = up;
+    let view = format!(r#""{side}":{{"#);
+    assert!(line.contains(&view), "{line}");
+    line.replacen(&view, &format!(r#"{view}"up":[{x},{y},{z}],"#), 1)
+}
+
 fn serde_json_array(values: &[f32]) -> String {
     let items: Vec<String> = values.iter().map(|v| v.to_string()).collect();
     format!("[{}]", items.join(","))
@@ -233,8 +243,16 @@ fn a_dataset_shows_each_pair_for_the_hold_time_in_turn() {
     let dir = tempfile::tempdir().unwrap();
     let text = [
         scene_line("a", &[1, 2, 3], &[11, 12, 13], 4),
-        scene_line("b", &[4, 5], &[14, 15, 16, 17], 4),
-        scene_line("c", &[6, 7, 8, 9], &[18, 19], 4),
+        with_up(
+            &scene_line("b", &[4, 5], &[14, 15, 16, 17], 4),
+            "robot",
+            [0.0, -2.0, 0.0],
+        ),
+        with_up(
+            &scene_line("c", &[6, 7, 8, 9], &[18, 19], 4),
+            "human",
+            [3.0, 0.0, -4.0],
+        ),
     ]
     .join("\n");
     let path = write(dir.path(), "three.jsonl", &text);
@@ -251,12 +269,20 @@ fn a_dataset_shows_each_pair_for_the_hold_time_in_turn() {
         let start = 3 * 1_000_000 * SECOND;
         let published = schedule(&mut feed, start, 60);
         for (k, (at, what)) in published.iter().enumerate() {
-            let Owned::Snapshot(dim, entries) = what else {
+            let Owned::Snapshot(dim, entries, up) = what else {
                 panic!("a dataset has no rays");
             };
             assert_eq!(*dim, 4);
             let pair = ((at - start) / SECOND) as usize % 3;
             assert_eq!(entries[0].track_id, first_ids[pair], "snapshot {k}");
+            // Pair b's robot view and pair c's human view know which way
+            // is up; it is published at unit length.
+            let expected = match (role, pair) {
+                (Role::Perception, 1) => Some([0.0, -1.0, 0.0]),
+                (Role::Gesture, 2) => Some([0.6, 0.0, -0.8]),
+                _ => None,
+            };
+            assert_eq!(*up, expected, "snapshot {k}");
         }
     }
 }
@@ -315,6 +341,7 @@ fn recorded(robot: bool, timestamp_ns: u64, id: u64, dim: usize) -> Frame {
             position_sigma: [0.01, 0.01, 0.05],
             feature: vec![0.25; dim],
         }],
+        up: None,
     })
 }
 
@@ -358,7 +385,7 @@ fn a_recording_replays_its_side_with_the_original_spacing_looping() {
     let ids: Vec<u64> = published
         .iter()
         .map(|(_, w)| match w {
-            Owned::Snapshot(3, e) => {
+            Owned::Snapshot(3, e, _) => {
                 assert_eq!(e[0].position_sigma, [0.01, 0.01, 0.05]);
                 e[0].track_id
             }
@@ -385,9 +412,36 @@ fn a_recording_replays_its_side_with_the_original_spacing_looping() {
     let mut human = prepare(Role::Gesture, &args(SourceSpec::Recording(path))).unwrap();
     let published = schedule(&mut human, start, 3);
     let kinds: Vec<Owned> = published.into_iter().map(|(_, w)| w).collect();
-    assert!(matches!(&kinds[0], Owned::Snapshot(_, e) if e[0].track_id == 2));
-    assert!(matches!(&kinds[1], Owned::Snapshot(_, e) if e[0].track_id == 4));
+    assert!(matches!(&kinds[0], Owned::Snapshot(_, e, _) if e[0].track_id == 2));
+    assert!(matches!(&kinds[1], Owned::Snapshot(_, e, _) if e[0].track_id == 4));
     assert_eq!(kinds[2], Owned::Gesture(0));
+}
+
+#[test]
+fn a_recording_replays_each_snapshots_up_vector_as_recorded() {
+    let dir = tempfile::tempdir().unwrap();
+    let with = |frame: Frame, up: Option<[f32; 3]>| match frame {
+        Frame::Snapshot(s) => Frame::Snapshot(RecordedSnapshot { up, ..s }),
+        other => other,
+    };
+    // A zero vector is replayed too: a replay reproduces what was sent,
+    // and the matcher refuses it again.
+    let ups = [Some([0.0, -1.0, 0.0]), None, Some([0.0; 3])];
+    let frames: Vec<Frame> = ups
+        .iter()
+        .enumerate()
+        .map(|(k, up)| with(recorded(true, NOW + k as u64 * SECOND, 1, 2), *up))
+        .collect();
+    let path = recording(dir.path(), "up.vrec", &frames);
+    let mut feed = prepare(Role::Perception, &args(SourceSpec::Recording(path))).unwrap();
+    let published: Vec<Option<[f32; 3]>> = schedule(&mut feed, NOW, 3)
+        .into_iter()
+        .map(|(_, w)| match w {
+            Owned::Snapshot(_, _, up) => up,
+            other => panic!("unexpected {other:?}"),
+        })
+        .collect();
+    assert_eq!(published, ups);
 }
 
 #[test]

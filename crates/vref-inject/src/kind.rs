@@ -39,10 +39,12 @@ pub enum Kind {
     /// A valid ray in the live gesture feed's session with the largest
     /// sequence number, pointing at human object 3.
     HijackRay,
+    /// An up vector flagged as known but zero.
+    BadUp,
 }
 
 impl Kind {
-    pub const ALL: [Kind; 16] = [
+    pub const ALL: [Kind; 17] = [
         Kind::Valid,
         Kind::Nan,
         Kind::Inf,
@@ -59,6 +61,7 @@ impl Kind {
         Kind::OldStamp,
         Kind::HijackSequence,
         Kind::HijackRay,
+        Kind::BadUp,
     ];
 
     /// The name on the command line.
@@ -80,6 +83,7 @@ impl Kind {
             Kind::OldStamp => "old-stamp",
             Kind::HijackSequence => "hijack-sequence",
             Kind::HijackRay => "hijack-ray",
+            Kind::BadUp => "bad-up",
         }
     }
 

@@ -94,6 +94,13 @@ pub fn messages(kind: Kind, target: &Target, round: u64) -> Vec<Message> {
             vec![snapshot(objects)]
         }
         Kind::ZeroRay => vec![Message::Ray(zero_ray(target, sequence))],
+        Kind::BadUp => {
+            let mut message = snapshot(valid());
+            if let Message::Snapshot { header, .. } = &mut message {
+                header.set_up(Some([0.0; 3]));
+            }
+            vec![message]
+        }
         Kind::SchemaVersion => {
             let mut message = snapshot(valid());
             if let Message::Snapshot { header, .. } = &mut message {
@@ -162,6 +169,8 @@ fn snapshot_of(target: &Target, sequence: u64, entries: Vec<ObjectEntry>) -> Mes
             object_count: count_u32(entries.len()),
             feature_dim: count_u32(VALID_FEATURE_DIM),
             frame_name,
+            up: [0.0; 3],
+            flags: 0,
         },
         entries,
     }

@@ -86,6 +86,12 @@ fn each_malformed_kind_fails_validation_for_its_own_defect() {
         single_error(Kind::SchemaVersion),
         WireError::SchemaVersion { .. }
     ));
+    assert!(matches!(
+        single_error(Kind::BadUp),
+        WireError::Graph(GraphError::BadUp {
+            up: [0.0, 0.0, 0.0]
+        })
+    ));
 }
 
 /// These two are well-formed on their own: only the matcher's memory of

@@ -7,7 +7,7 @@ pub enum RecordError {
         #[source]
         source: std::io::Error,
     },
-    #[error("not a vref recording (the file does not start with VREFREC1)")]
+    #[error("not a vref recording (the file starts with neither VREFREC2 nor VREFREC1)")]
     BadMagic,
     #[error("frame {frame}: length {length} exceeds the limit of {limit} bytes")]
     FrameTooLarge { frame: u64, length: u32, limit: u32 },

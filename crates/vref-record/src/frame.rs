@@ -29,6 +29,9 @@ pub struct RecordedSnapshot {
     pub frame_name: String,
     pub feature_dim: u32,
     pub objects: Vec<RecordedObject>,
+    /// The view's up vector as sent (not checked), `None` if the snapshot
+    /// said it was unknown.
+    pub up: Option<[f32; 3]>,
 }
 
 impl RecordedSnapshot {
@@ -62,6 +65,7 @@ impl RecordedSnapshot {
                     feature: e.feature[..dim].to_vec(),
                 })
                 .collect(),
+            up: header.up(),
         }
     }
 }
@@ -96,6 +100,48 @@ impl RecordedRay {
             direction: r.direction,
             cone_half_angle: r.cone_half_angle,
             confidence: r.confidence,
+        }
+    }
+}
+
+/// The frames of a `VREFREC1` file: written before snapshots carried an
+/// up vector. bincode's encoding is not self-describing, so a field added
+/// to [`RecordedSnapshot`] needs the old shape to read old files.
+pub(crate) mod v1 {
+    use serde::Deserialize;
+
+    use super::{RecordedObject, RecordedRay, RecordedSnapshot};
+
+    #[derive(Deserialize)]
+    pub(crate) enum Frame {
+        Snapshot(Snapshot),
+        Gesture(RecordedRay),
+    }
+
+    #[derive(Deserialize)]
+    pub(crate) struct Snapshot {
+        robot: bool,
+        sequence: u64,
+        timestamp_ns: u64,
+        frame_name: String,
+        feature_dim: u32,
+        objects: Vec<RecordedObject>,
+    }
+
+    impl From<Frame> for super::Frame {
+        fn from(frame: Frame) -> Self {
+            match frame {
+                Frame::Snapshot(s) => super::Frame::Snapshot(RecordedSnapshot {
+                    robot: s.robot,
+                    sequence: s.sequence,
+                    timestamp_ns: s.timestamp_ns,
+                    frame_name: s.frame_name,
+                    feature_dim: s.feature_dim,
+                    objects: s.objects,
+                    up: None,
+                }),
+                Frame::Gesture(r) => super::Frame::Gesture(r),
+            }
         }
     }
 }

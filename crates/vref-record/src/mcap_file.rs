@@ -1,8 +1,8 @@
 //! Reading the raw wire channels of an MCAP recording back as frames.
 
 use vref_scene::Side;
-use vref_wire::bytes::{from_bytes, take_sample};
-use vref_wire::{ObjectEntry, PointingRay, SnapshotHeader};
+use vref_wire::bytes::{BytesError, WireBytes, from_bytes, take_sample};
+use vref_wire::{FRAME_NAME_LEN, ObjectEntry, PointingRay, SnapshotHeader};
 
 use crate::{Frame, RecordError, RecordedRay, RecordedSnapshot, WireChannel};
 
@@ -32,9 +32,26 @@ pub fn mcap_frames(bytes: &[u8]) -> Result<Vec<Frame>, RecordError> {
                 } else {
                     Side::Human
                 };
+                let version = message
+                    .channel
+                    .schema
+                    .as_ref()
+                    .and_then(|s| WireChannel::schema_version_of(&s.data));
+                let data = match version {
+                    Some(v) if v < FIRST_SCHEMA_WITH_UP => {
+                        std::borrow::Cow::Owned(without_up(&message.data).ok_or_else(|| {
+                            wire(BytesError::Length {
+                                what: "schema 2 snapshot",
+                                len: message.data.len(),
+                                head: SCHEMA_2_HEADER_BYTES,
+                                entry: ObjectEntry::SIZE,
+                            })
+                        })?)
+                    }
+                    _ => std::borrow::Cow::Borrowed(&*message.data),
+                };
                 let (header, entries) =
-                    take_sample::<SnapshotHeader, ObjectEntry>("snapshot", &message.data)
-                        .map_err(wire)?;
+                    take_sample::<SnapshotHeader, ObjectEntry>("snapshot", &data).map_err(wire)?;
                 Frame::Snapshot(RecordedSnapshot::from_wire(side, &header, &entries))
             }
             WireChannel::Gesture => {
@@ -46,6 +63,26 @@ pub fn mcap_frames(bytes: &[u8]) -> Result<Vec<Frame>, RecordError> {
         frames.push(frame);
     }
     Ok(frames)
+}
+
+/// The wire schema whose snapshot header first carried the up vector and
+/// flags (appended to the header of schema 2).
+const FIRST_SCHEMA_WITH_UP: u32 = 3;
+/// Bytes of the snapshot header before schema 3: three u64, four u32, the
+/// frame name.
+const SCHEMA_2_HEADER_BYTES: usize = 3 * 8 + 4 * 4 + FRAME_NAME_LEN;
+
+/// A snapshot message of schema 2 in today's layout: the header's new
+/// fields (up vector, flags) inserted as zeros, which is "up unknown";
+/// `None` if it is too short for even the old header.
+fn without_up(data: &[u8]) -> Option<Vec<u8>> {
+    let (head, entries) = data.split_at_checked(SCHEMA_2_HEADER_BYTES)?;
+    let added = SnapshotHeader::SIZE - SCHEMA_2_HEADER_BYTES;
+    let mut out = Vec::with_capacity(data.len() + added);
+    out.extend_from_slice(head);
+    out.resize(out.len() + added, 0);
+    out.extend_from_slice(entries);
+    Some(out)
 }
 
 /// Every frame of a recording in either format: MCAP (by its magic) or

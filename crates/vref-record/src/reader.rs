@@ -1,6 +1,6 @@
 use std::io::{ErrorKind, Read};
 
-use crate::{Frame, MAGIC, MAX_FRAME_BYTES, RecordError};
+use crate::{Frame, MAGIC, MAGIC_V1, MAX_FRAME_BYTES, RecordError};
 
 /// Reads the frames of a recording in order.
 #[derive(Debug)]
@@ -8,6 +8,8 @@ pub struct RecordingReader<R: Read> {
     input: R,
     frame: u64,
     done: bool,
+    /// A `VREFREC1` file, whose snapshots have no up vector.
+    v1: bool,
 }
 
 impl<R: Read> RecordingReader<R> {
@@ -20,13 +22,16 @@ impl<R: Read> RecordingReader<R> {
                 ErrorKind::UnexpectedEof => RecordError::BadMagic,
                 _ => RecordError::Io { frame: 0, source },
             })?;
-        if &magic != MAGIC {
-            return Err(RecordError::BadMagic);
-        }
+        let v1 = match &magic {
+            m if m == MAGIC => false,
+            m if m == MAGIC_V1 => true,
+            _ => return Err(RecordError::BadMagic),
+        };
         Ok(Self {
             input,
             frame: 0,
             done: false,
+            v1,
         })
     }
 
@@ -53,12 +58,12 @@ impl<R: Read> RecordingReader<R> {
             Ok(_) => return Err(RecordError::Truncated { frame }),
             Err(source) => return Err(RecordError::Io { frame, source }),
         }
-        let (decoded, used) =
-            bincode::serde::decode_from_slice::<Frame, _>(&bytes, bincode::config::standard())
-                .map_err(|e| RecordError::Decode {
-                    frame,
-                    message: e.to_string(),
-                })?;
+        let decoded = if self.v1 {
+            decode::<crate::frame::v1::Frame>(&bytes, frame).map(|(f, used)| (f.into(), used))
+        } else {
+            decode::<Frame>(&bytes, frame)
+        };
+        let (decoded, used): (Frame, usize) = decoded?;
         if used != bytes.len() {
             return Err(RecordError::Decode {
                 frame,
@@ -68,6 +73,18 @@ impl<R: Read> RecordingReader<R> {
         self.frame += 1;
         Ok(Some(decoded))
     }
+}
+
+fn decode<T: serde::de::DeserializeOwned>(
+    bytes: &[u8],
+    frame: u64,
+) -> Result<(T, usize), RecordError> {
+    bincode::serde::decode_from_slice::<T, _>(bytes, bincode::config::standard()).map_err(|e| {
+        RecordError::Decode {
+            frame,
+            message: e.to_string(),
+        }
+    })
 }
 
 /// Reads until `buf` is full or the input ends; returns the bytes read.

@@ -54,6 +54,14 @@ impl WireChannel {
         }
     }
 
+    /// The wire schema version a channel's schema data (its [`Self::layout`]
+    /// when written) names, if it names one.
+    pub fn schema_version_of(layout: &[u8]) -> Option<u32> {
+        let rest = layout.strip_prefix(b"vref wire schema ")?;
+        let end = rest.iter().position(|b| !b.is_ascii_digit())?;
+        std::str::from_utf8(&rest[..end]).ok()?.parse().ok()
+    }
+
     /// The schema's data: the byte layout, for readers in other languages.
     pub fn layout(self) -> String {
         let intro = format!(
@@ -64,7 +72,7 @@ impl WireChannel {
             WireChannel::RobotSnapshot | WireChannel::HumanSnapshot => format!(
                 "SnapshotHeader ({} bytes): session u64, sequence u64, timestamp_ns u64, \
                  schema_version u32, side u32, object_count u32, feature_dim u32, \
-                 frame_name [u8; 32]\n\
+                 frame_name [u8; 32], up [f32; 3], flags u32 (bit 1: up is known)\n\
                  then every entry of the sample's slice, ObjectEntry ({} bytes each): \
                  track_id u64, position [f32; 3], position_sigma [f32; 3], feature [f32; 64]\n",
                 SnapshotHeader::SIZE,

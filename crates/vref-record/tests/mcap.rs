@@ -10,8 +10,8 @@ use vref_record::{
     Frame, RecordError, RecordingWriter, WIRE_ENCODING, WIRE_SCHEMA_ENCODING, WireChannel,
     read_frames,
 };
-use vref_wire::bytes::{put_sample, to_bytes};
-use vref_wire::{MAX_FEATURE_DIM, ObjectEntry, PointingRay, SnapshotHeader};
+use vref_wire::bytes::{WireBytes, put_sample, to_bytes};
+use vref_wire::{MAX_FEATURE_DIM, ObjectEntry, PointingRay, SCHEMA_VERSION, SnapshotHeader};
 
 fn header(sequence: u64, count: u32) -> SnapshotHeader {
     let mut frame_name = [0; 32];
@@ -20,11 +20,13 @@ fn header(sequence: u64, count: u32) -> SnapshotHeader {
         session: 9,
         sequence,
         timestamp_ns: 1_000 * sequence,
-        schema_version: 2,
+        schema_version: SCHEMA_VERSION,
         side: 0,
         object_count: count,
         feature_dim: 2,
         frame_name,
+        up: [0.0; 3],
+        flags: 0,
     }
 }
 
@@ -59,12 +61,22 @@ fn raw_wire_channels_read_back_as_the_frames_published() {
     // A count over the slice is kept as sent; the frame holds what the
     // slice carries.
     put_sample(&header(1, 3), &[entry(7), entry(8)], &mut snapshot);
+    let mut upright = header(2, 1);
+    upright.set_up(Some([0.0, -1.0, 0.0]));
+    let mut with_up = Vec::new();
+    put_sample(&upright, &[entry(9)], &mut with_up);
     let bytes = written(&[
         (WireChannel::RobotSnapshot, snapshot),
         (WireChannel::Gesture, to_bytes(&ray())),
+        (WireChannel::HumanSnapshot, with_up),
     ]);
     let frames = read_frames(&bytes).unwrap();
-    assert_eq!(frames.len(), 2, "{frames:?}");
+    assert_eq!(frames.len(), 3, "{frames:?}");
+    let Frame::Snapshot(h) = &frames[2] else {
+        panic!("{frames:?}")
+    };
+    assert!(!h.robot);
+    assert_eq!(h.up, Some([0.0, -1.0, 0.0]));
     let Frame::Snapshot(s) = &frames[0] else {
         panic!("{frames:?}")
     };
@@ -74,10 +86,50 @@ fn raw_wire_channels_read_back_as_the_frames_published() {
     assert_eq!(s.objects.len(), 2);
     assert_eq!(s.objects[1].track_id, 8);
     assert_eq!(s.objects[1].feature, [0.5, 0.25]);
+    assert_eq!(s.up, None);
     let Frame::Gesture(r) = &frames[1] else {
         panic!("{frames:?}")
     };
     assert_eq!(r.direction, [0.0, 0.1, 1.0]);
+}
+
+/// Files of wire schema 2 (before the up vector) hold a 72-byte snapshot
+/// header, and their channel's schema says which schema they are.
+#[test]
+fn a_schema_2_file_is_read_its_snapshots_without_an_up_vector() {
+    let old_header = |h: &SnapshotHeader| {
+        let mut bytes = Vec::new();
+        put_sample(h, &[entry(7), entry(8)], &mut bytes);
+        // Today's header is schema 2's plus the up vector and flags at its
+        // end.
+        bytes.drain(72..SnapshotHeader::SIZE);
+        bytes
+    };
+    let mut h = header(5, 2);
+    h.schema_version = 2;
+    let layout = |c: WireChannel| {
+        c.layout()
+            .replacen(&format!("schema {SCHEMA_VERSION}"), "schema 2", 1)
+    };
+    let bytes = written_with(&[(WireChannel::HumanSnapshot, old_header(&h))], layout);
+    let frames = read_frames(&bytes).unwrap();
+    let [Frame::Snapshot(s)] = frames.as_slice() else {
+        panic!("{frames:?}")
+    };
+    assert_eq!((s.robot, s.sequence, s.up), (false, 5, None));
+    assert_eq!(s.frame_name, "robot_camera");
+    assert_eq!(
+        s.objects.iter().map(|o| o.track_id).collect::<Vec<_>>(),
+        [7, 8]
+    );
+    // The same bytes under today's schema are the wrong length.
+    let bytes = written(&[(WireChannel::HumanSnapshot, old_header(&h))]);
+    assert!(matches!(read_frames(&bytes), Err(RecordError::Wire { .. })));
+    assert_eq!(
+        WireChannel::schema_version_of(b"vref wire schema 12: x"),
+        Some(12)
+    );
+    assert_eq!(WireChannel::schema_version_of(b"something else"), None);
 }
 
 #[test]
@@ -109,13 +161,21 @@ fn vref_recordings_are_read_by_their_magic_too() {
 /// wire channels and a JSON channel that a replay must skip: each message
 /// is followed by a JSON one.
 fn written(messages: &[(WireChannel, Vec<u8>)]) -> Vec<u8> {
+    written_with(messages, WireChannel::layout)
+}
+
+/// As [`written`], with each raw channel's schema data from `layout`.
+fn written_with(
+    messages: &[(WireChannel, Vec<u8>)],
+    layout: impl Fn(WireChannel) -> String,
+) -> Vec<u8> {
     let mut cursor = Cursor::new(Vec::new());
     {
         let mut writer = mcap::Writer::new(&mut cursor).unwrap();
         let mut ids = BTreeMap::new();
         for c in WireChannel::ALL {
             let schema = writer
-                .add_schema(c.schema_name(), WIRE_SCHEMA_ENCODING, c.layout().as_bytes())
+                .add_schema(c.schema_name(), WIRE_SCHEMA_ENCODING, layout(c).as_bytes())
                 .unwrap();
             let id = writer
                 .add_channel(schema, c.topic(), WIRE_ENCODING, &BTreeMap::new())

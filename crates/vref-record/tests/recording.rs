@@ -20,6 +20,16 @@ fn frames() -> Vec<Frame> {
                 position_sigma: [0.01, 0.01, 0.03],
                 feature: vec![0.5, 0.25],
             }],
+            up: Some([0.0, -0.6, 0.8]),
+        }),
+        Frame::Snapshot(RecordedSnapshot {
+            robot: false,
+            sequence: 1,
+            timestamp_ns: 1_200,
+            frame_name: "headset_camera".to_owned(),
+            feature_dim: 0,
+            objects: vec![],
+            up: None,
         }),
         Frame::Gesture(RecordedRay {
             sequence: 1,
@@ -49,7 +59,7 @@ fn frames_round_trip_in_order() {
         .map(Result::unwrap)
         .collect();
     assert_eq!(back, frames());
-    assert_eq!(back[1].timestamp_ns(), 1_500);
+    assert_eq!(back[2].timestamp_ns(), 1_500);
 }
 
 #[test]
@@ -66,12 +76,12 @@ fn damage_is_reported_by_frame() {
     let bytes = encode(&frames());
     let cut = &bytes[..bytes.len() - 3];
     let results: Vec<_> = RecordingReader::new(cut).unwrap().collect();
-    assert!(results[0].is_ok());
+    assert!(results[0].is_ok() && results[1].is_ok());
     assert!(matches!(
-        results[1],
-        Err(RecordError::Truncated { frame: 1 })
+        results[2],
+        Err(RecordError::Truncated { frame: 2 })
     ));
-    assert_eq!(results.len(), 2, "the stream ends at the first error");
+    assert_eq!(results.len(), 3, "the stream ends at the first error");
 
     let mut huge = b"VREFREC1".to_vec();
     huge.extend_from_slice(&u32::MAX.to_le_bytes());
@@ -86,6 +96,72 @@ fn damage_is_reported_by_frame() {
     garbage.extend_from_slice(&[9, 9, 9]);
     let first = RecordingReader::new(&garbage[..]).unwrap().next().unwrap();
     assert!(matches!(first, Err(RecordError::Decode { frame: 0, .. })));
+}
+
+/// `RecordedSnapshot` as `VREFREC1` files hold it: before the up vector.
+#[derive(serde::Serialize)]
+enum FrameV1 {
+    Snapshot(SnapshotV1),
+    Gesture(RecordedRay),
+}
+
+#[derive(serde::Serialize)]
+struct SnapshotV1 {
+    robot: bool,
+    sequence: u64,
+    timestamp_ns: u64,
+    frame_name: String,
+    feature_dim: u32,
+    objects: Vec<RecordedObject>,
+}
+
+#[test]
+fn a_first_version_file_is_read_its_snapshots_without_an_up_vector() {
+    let old = [
+        FrameV1::Snapshot(SnapshotV1 {
+            robot: true,
+            sequence: 4,
+            timestamp_ns: 2_000,
+            frame_name: "robot_camera".to_owned(),
+            feature_dim: 1,
+            objects: vec![RecordedObject {
+                track_id: 3,
+                position: [0.0, 0.1, 0.9],
+                position_sigma: [0.0; 3],
+                feature: vec![0.5],
+            }],
+        }),
+        FrameV1::Gesture(RecordedRay {
+            sequence: 2,
+            timestamp_ns: 2_100,
+            origin: [0.0; 3],
+            direction: [0.0, 0.0, 1.0],
+            cone_half_angle: 0.1,
+            confidence: 1.0,
+        }),
+    ];
+    let mut bytes = b"VREFREC1".to_vec();
+    for frame in &old {
+        let body = bincode::serde::encode_to_vec(frame, bincode::config::standard()).unwrap();
+        bytes.extend_from_slice(&(body.len() as u32).to_le_bytes());
+        bytes.extend_from_slice(&body);
+    }
+    let back: Vec<Frame> = RecordingReader::new(&bytes[..])
+        .unwrap()
+        .map(Result::unwrap)
+        .collect();
+    let Frame::Snapshot(s) = &back[0] else {
+        panic!("{back:?}")
+    };
+    assert_eq!((s.sequence, s.objects[0].track_id, s.up), (4, 3, None));
+    assert!(matches!(&back[1], Frame::Gesture(r) if r.timestamp_ns == 2_100));
+    // Read as the current version, the same bytes are not frames.
+    bytes[..8].copy_from_slice(vref_record::MAGIC);
+    let first = RecordingReader::new(&bytes[..]).unwrap().next().unwrap();
+    assert!(first.is_err(), "{first:?}");
+    // New files are the current version.
+    assert!(encode(&frames()).starts_with(vref_record::MAGIC));
+    assert_eq!(vref_record::MAGIC, b"VREFREC2");
 }
 
 proptest! {

@@ -31,12 +31,15 @@ pub enum RejectReason {
     SequenceJump,
     /// A query from a client over its rate, dropped unanswered.
     QueryOverRate,
+    /// An up vector (flagged as known) that is no direction: zero or not
+    /// finite.
+    BadUp,
 }
 
 impl RejectReason {
     /// In counter order: new reasons go at the end, so that the index of
     /// every earlier one (its slot in `MatcherStats::rejected`) stays.
-    pub const ALL: [RejectReason; 20] = [
+    pub const ALL: [RejectReason; 21] = [
         RejectReason::SchemaVersion,
         RejectReason::WrongSide,
         RejectReason::CountExceedsSlice,
@@ -57,6 +60,7 @@ impl RejectReason {
         RejectReason::TimestampTooOld,
         RejectReason::SequenceJump,
         RejectReason::QueryOverRate,
+        RejectReason::BadUp,
     ];
 
     pub fn name(self) -> &'static str {
@@ -81,6 +85,7 @@ impl RejectReason {
             RejectReason::TimestampTooOld => "timestamp_too_old",
             RejectReason::SequenceJump => "sequence_jump",
             RejectReason::QueryOverRate => "query_over_rate",
+            RejectReason::BadUp => "bad_up",
         }
     }
 
@@ -103,12 +108,11 @@ impl RejectReason {
                 GraphError::BadPositionSigma { .. } => RejectReason::Uncertainty,
                 GraphError::NonFiniteFeature { .. } => RejectReason::NonFiniteFeature,
                 GraphError::FeatureDimMismatch { .. } => RejectReason::FeatureDimMismatch,
-                // Snapshots carry no edges and no up vector yet, and the
-                // wire never raises ids.
+                GraphError::BadUp { .. } => RejectReason::BadUp,
+                // Snapshots carry no edges, and the wire never raises ids.
                 GraphError::UnknownEdgeEndpoint { .. }
                 | GraphError::SelfLoop { .. }
-                | GraphError::IdOverflow { .. }
-                | GraphError::BadUp { .. } => RejectReason::DuplicateId,
+                | GraphError::IdOverflow { .. } => RejectReason::DuplicateId,
             },
             WireError::NonFiniteRay { .. }
             | WireError::ZeroRayDirection

@@ -56,6 +56,8 @@ fn header(side: Side, session: u64, sequence: u64, count: usize, now: &Now) -> S
         object_count: count as u32,
         feature_dim: 4,
         frame_name: [0; FRAME_NAME_LEN],
+        up: [0.0; 3],
+        flags: 0,
     }
 }
 
@@ -342,7 +344,7 @@ fn bad_requests_are_answered_as_such() {
     odd.kind = 17;
     assert_eq!(s.answer(&odd, &now).status, AnswerStatus::BadRequest as u32);
     odd = by_id(1);
-    odd.schema_version = 3;
+    odd.schema_version = SCHEMA_VERSION + 1;
     assert_eq!(s.answer(&odd, &now).status, AnswerStatus::BadRequest as u32);
 }
 
@@ -542,6 +544,50 @@ fn rejected_snapshots_are_counted_and_the_last_good_one_stays() {
         )
         .unwrap();
     assert_eq!(s.state.snapshot(Side::Robot).unwrap().session, 77);
+}
+
+#[test]
+fn an_up_vector_is_kept_with_its_snapshot_and_a_bad_one_counted_as_bad_up() {
+    let now = Now::read();
+    let mut s = ready(&now);
+    assert_eq!(s.state.snapshot(Side::Human).unwrap().graph.up(), None);
+    let good = entries(&HUMAN_IDS, 0.0);
+    let human = |s: &mut Rig, sequence: u64, up: Option<[f32; 3]>| {
+        let mut h = header(Side::Human, 2, sequence, 4, &now);
+        h.set_up(up);
+        s.state
+            .accept_snapshot(Side::Human, HUMAN_FEED, &h, &good, &now)
+    };
+    human(&mut s, 2, Some([0.0, -2.0, 0.0])).unwrap();
+    let up = s.state.snapshot(Side::Human).unwrap().graph.up();
+    assert_eq!(up, Some(nalgebra::Vector3::new(0.0, -1.0, 0.0)));
+
+    let r = human(&mut s, 3, Some([0.0, 0.0, 0.0])).unwrap_err();
+    assert_eq!(r.reason, RejectReason::BadUp);
+    assert!(r.detail.contains("up is [0.0, 0.0, 0.0]"), "{}", r.detail);
+    let r = human(&mut s, 4, Some([f32::NAN, 1.0, 0.0])).unwrap_err();
+    assert_eq!(r.reason, RejectReason::BadUp);
+    assert_eq!(s.state.rejections().get(RejectReason::BadUp), 2);
+    assert_eq!(s.state.rejections().total(), 2);
+    let kept = s.state.snapshot(Side::Human).unwrap();
+    assert_eq!((kept.sequence, kept.graph.up()), (2, up));
+
+    // A snapshot that says nothing of gravity takes the up vector away.
+    human(&mut s, 5, None).unwrap();
+    assert_eq!(s.state.snapshot(Side::Human).unwrap().graph.up(), None);
+}
+
+/// Stats readers index `MatcherStats::rejected` by reason: a new reason
+/// goes at the end, and every earlier one keeps its slot.
+#[test]
+fn reject_reasons_keep_their_counter_slots() {
+    let names: Vec<&str> = RejectReason::ALL.iter().map(|r| r.name()).collect();
+    assert_eq!(names[8], "duplicate_id");
+    assert_eq!(names[19], "query_over_rate");
+    assert_eq!(names.last(), Some(&"bad_up"));
+    for (index, reason) in RejectReason::ALL.into_iter().enumerate() {
+        assert_eq!(reason as usize, index, "{reason}");
+    }
 }
 
 #[test]

@@ -88,7 +88,7 @@ fn take_u64s<const N: usize>(input: &mut &[u8]) -> Option<[u64; N]> {
 }
 
 impl WireBytes for SnapshotHeader {
-    const SIZE: usize = 3 * 8 + 4 * 4 + FRAME_NAME_LEN;
+    const SIZE: usize = 3 * 8 + 4 * 4 + FRAME_NAME_LEN + 3 * 4 + 4;
 
     fn put(&self, out: &mut Vec<u8>) {
         put_u64s(out, &[self.session, self.sequence, self.timestamp_ns]);
@@ -101,6 +101,8 @@ impl WireBytes for SnapshotHeader {
             put_u32(out, v);
         }
         out.extend_from_slice(&self.frame_name);
+        put_f32s(out, &self.up);
+        put_u32(out, self.flags);
     }
 
     fn take(input: &mut &[u8]) -> Option<Self> {
@@ -113,6 +115,8 @@ impl WireBytes for SnapshotHeader {
             object_count: take_u32(input)?,
             feature_dim: take_u32(input)?,
             frame_name: chunk::<FRAME_NAME_LEN>(input)?,
+            up: take_f32s(input)?,
+            flags: take_u32(input)?,
         })
     }
 }
@@ -426,19 +430,30 @@ mod tests {
             session: u64::MAX - 3,
             sequence: 17,
             timestamp_ns: 1_700_000_000_123_456_789,
-            schema_version: 2,
+            schema_version: 3,
             side: 1,
             // Disagrees with the slice: kept as sent.
             object_count: 5,
             feature_dim: 2,
             frame_name: *b"headset_camera\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0",
+            // Not unit length, and a NaN: kept as sent too.
+            up: [0.0, f32::NAN, -2.5],
+            flags: SnapshotHeader::FLAG_UP,
         };
         let entries = [entry(1), entry(2), entry(3)];
         let mut bytes = Vec::new();
         put_sample(&header, &entries, &mut bytes);
         assert_eq!(bytes.len(), SnapshotHeader::SIZE + 3 * ObjectEntry::SIZE);
         let (h, e): (SnapshotHeader, Vec<ObjectEntry>) = take_sample("snapshot", &bytes).unwrap();
-        assert_eq!(h, header);
+        // Bit for bit: NaN != NaN, so compare the up vector's bits.
+        assert_eq!(h.up.map(f32::to_bits), header.up.map(f32::to_bits));
+        assert_eq!(
+            SnapshotHeader { up: [0.0; 3], ..h },
+            SnapshotHeader {
+                up: [0.0; 3],
+                ..header
+            }
+        );
         assert_eq!(e, entries);
         // The first field is little-endian on any machine.
         assert_eq!(bytes[..8], (u64::MAX - 3).to_le_bytes());

@@ -8,8 +8,9 @@ use crate::{FRAME_NAME_LEN, MAX_FEATURE_DIM, ObjectEntry, SnapshotHeader};
 
 /// Bytes of the header part: session, sequence, timestamp (u64 each),
 /// schema version, side, object count, feature dimension (u32 each), the
-/// frame name.
-pub const HEADER_BYTES: usize = 3 * 8 + 4 * 4 + FRAME_NAME_LEN;
+/// frame name, the up vector (3 f32), the flags (u32): the header's own
+/// layout.
+pub const HEADER_BYTES: usize = 3 * 8 + 4 * 4 + FRAME_NAME_LEN + 3 * 4 + 4;
 /// Bytes per object: a 16-bit track id (so that duplicates are common),
 /// position and sigma (3 f32 each), 4 feature values repeated over the
 /// whole feature array.
@@ -46,8 +47,12 @@ pub fn snapshot_from_bytes(data: &[u8]) -> FuzzSnapshot {
         object_count: r.u32(),
         feature_dim: r.u32(),
         frame_name: [0; FRAME_NAME_LEN],
+        up: [0.0; 3],
+        flags: 0,
     };
     header.frame_name.copy_from_slice(r.take(FRAME_NAME_LEN));
+    header.up = [r.f32(), r.f32(), r.f32()];
+    header.flags = r.u32();
     let entries = rest
         .get(HEADER_BYTES..)
         .unwrap_or(&[])
@@ -90,6 +95,10 @@ pub fn snapshot_to_bytes(s: &FuzzSnapshot) -> Vec<u8> {
         out.extend(v.to_le_bytes());
     }
     out.extend(h.frame_name);
+    for v in h.up {
+        out.extend(v.to_le_bytes());
+    }
+    out.extend(h.flags.to_le_bytes());
     for e in &s.entries {
         out.extend(u16::try_from(e.track_id).unwrap_or(u16::MAX).to_le_bytes());
         for v in e
@@ -163,6 +172,8 @@ mod tests {
                 object_count: 1,
                 feature_dim: 4,
                 frame_name,
+                up: [0.0, -1.0, 0.25],
+                flags: SnapshotHeader::FLAG_UP,
             },
             entries: vec![ObjectEntry {
                 track_id: 300,

@@ -138,6 +138,8 @@ pub fn wire_types() -> Vec<TypeLayout> {
             object_count,
             feature_dim,
             frame_name,
+            up,
+            flags,
         }),
         layout!(ObjectEntry {
             track_id,
@@ -352,6 +354,14 @@ pub fn codes() -> Vec<Codes> {
                 })
                 .collect(),
         },
+        bits(
+            "SnapshotHeader.flags",
+            "SnapshotHeader.flags",
+            vec![Code {
+                name: "up",
+                value: SnapshotHeader::FLAG_UP,
+            }],
+        ),
         bits(
             "ReferenceAnswer.flags",
             "ReferenceAnswer.flags",

@@ -26,4 +26,4 @@ pub use messages::{
     ObjectEntry, PointingRay, QueryKind, ReferenceAnswer, ReferenceQuery, SCHEMA_VERSION, SideCode,
     SnapshotHeader,
 };
-pub use snapshot::{Ray, ValidSnapshot, validate_snapshot};
+pub use snapshot::{Ray, ValidSnapshot, validate_snapshot, wire_up};

@@ -5,7 +5,7 @@
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Bumped on any change of layout or meaning of these types.
-pub const SCHEMA_VERSION: u32 = 2;
+pub const SCHEMA_VERSION: u32 = 3;
 /// Features travel inline, so each object entry has a fixed size.
 pub const MAX_FEATURE_DIM: usize = 64;
 /// Bytes of a snapshot's frame name (UTF-8, zero-padded).
@@ -42,6 +42,39 @@ pub struct SnapshotHeader {
     pub feature_dim: u32,
     /// Camera frame the positions are in, e.g. "robot_camera".
     pub frame_name: [u8; FRAME_NAME_LEN],
+    /// Which way is up (against gravity) in the camera frame; any
+    /// non-zero length. Valid with [`SnapshotHeader::FLAG_UP`], else
+    /// unknown (and ignored).
+    pub up: [f32; 3],
+    /// Bits: [`SnapshotHeader::FLAG_UP`]. Unknown bits are 0 and readers
+    /// ignore them.
+    pub flags: u32,
+}
+
+impl SnapshotHeader {
+    /// `up` holds the view's up vector. A flag rather than a zero vector
+    /// for "unknown", so that a zero written by mistake is refused
+    /// instead of read as "no gravity".
+    pub const FLAG_UP: u32 = 1;
+
+    /// The up vector the header carries, as sent (not checked).
+    pub fn up(&self) -> Option<[f32; 3]> {
+        (self.flags & Self::FLAG_UP != 0).then_some(self.up)
+    }
+
+    /// Sets or clears the up vector.
+    pub fn set_up(&mut self, up: Option<[f32; 3]>) {
+        match up {
+            Some(v) => {
+                self.up = v;
+                self.flags |= Self::FLAG_UP;
+            }
+            None => {
+                self.up = [0.0; 3];
+                self.flags &= !Self::FLAG_UP;
+            }
+        }
+    }
 }
 
 /// One object of a snapshot.
@@ -490,7 +523,7 @@ mod tests {
             (
                 "SnapshotHeader",
                 size_of::<SnapshotHeader>(),
-                3 * 8 + 4 * 4 + FRAME_NAME_LEN,
+                3 * 8 + 4 * 4 + FRAME_NAME_LEN + 3 * 4 + 4,
             ),
             (
                 "ObjectEntry",

@@ -64,7 +64,9 @@ pub fn validate_snapshot(
         .iter()
         .map(|e| object_of(e, dim))
         .collect::<Result<Vec<_>, _>>()?;
-    let graph = SceneGraph::new(objects, None, limits)?;
+    // Checked by with_up (finite, not zero) and kept at unit length.
+    let up = header.up().map(|v| v.map(f64::from));
+    let graph = SceneGraph::new(objects, None, limits)?.with_up(up)?;
     Ok(ValidSnapshot {
         side,
         session: header.session,
@@ -73,6 +75,12 @@ pub fn validate_snapshot(
         frame_name,
         graph,
     })
+}
+
+/// A graph's up vector as a snapshot header carries it (single
+/// precision), for publishers.
+pub fn wire_up(graph: &SceneGraph) -> Option<[f32; 3]> {
+    graph.up().map(|v| [v.x as f32, v.y as f32, v.z as f32])
 }
 
 fn side_of(code: u32) -> Result<Side, WireError> {

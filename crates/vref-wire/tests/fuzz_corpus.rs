@@ -1,14 +1,15 @@
 //! The snapshot fuzz target's committed corpus (fuzz/corpus/snapshot),
 //! run through the same decoding and validation without cargo-fuzz: seeds
-//! named `valid_*` pass, the other named seeds are refused, and any
-//! regression input added later must simply not panic.
+//! named `valid_*` pass, `bad_up_*` are refused for their up vector, the
+//! other named seeds are refused, and any regression input added later
+//! must simply not panic.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::path::Path;
 
-use vref_scene::Limits;
+use vref_scene::{GraphError, Limits};
 use vref_wire::fuzz_input::snapshot_from_bytes;
-use vref_wire::validate_snapshot;
+use vref_wire::{SnapshotHeader, WireError, validate_snapshot};
 
 #[test]
 fn every_corpus_input_validates_or_is_refused_without_panicking() {
@@ -31,7 +32,18 @@ fn every_corpus_input_validates_or_is_refused_without_panicking() {
                 s.header.object_count as usize,
                 "{name}"
             );
+            assert_eq!(
+                snapshot.graph.up().is_some(),
+                s.header.flags & SnapshotHeader::FLAG_UP != 0,
+                "{name}"
+            );
             valid += 1;
+        } else if name.starts_with("bad_up") {
+            assert!(
+                matches!(result, Err(WireError::Graph(GraphError::BadUp { .. }))),
+                "{name}: {result:?}"
+            );
+            refused += 1;
         } else if !name.starts_with("regression") {
             assert!(result.is_err(), "{name} should be refused");
             refused += 1;

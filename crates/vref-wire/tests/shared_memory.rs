@@ -68,6 +68,8 @@ fn snapshot_round_trip_through_shared_memory() {
         object_count: 5,
         feature_dim: 3,
         frame_name,
+        up: [0.0; 3],
+        flags: 0,
     };
     sample.write_from_fn(|i| objects[i]).send().unwrap();
 
@@ -85,6 +87,63 @@ fn snapshot_round_trip_through_shared_memory() {
     assert_eq!(snapshot.graph.len(), 5);
     assert_eq!(snapshot.graph.index_of(42), Some(2));
     assert_eq!(snapshot.graph.objects()[4].feature, vec![1.0, 4.0, 0.5]);
+}
+
+/// The feeds' publisher writes the graph's up vector, or says there is
+/// none, and validation of what arrives gives it back (unit length).
+#[test]
+fn a_published_up_vector_arrives_and_a_missing_one_stays_missing() {
+    use vref_scene::{SceneGraph, SceneObject};
+    use vref_wire::ipc::{IpcSettings, SnapshotPublisher, create_node, open_snapshot};
+    use vref_wire::wire_up;
+
+    let root = tempfile::tempdir().unwrap();
+    let settings = IpcSettings {
+        root_path: Some(root.path().to_path_buf()),
+        prefix: format!("vref_up_{}_", std::process::id()),
+        namespace: "vref_test_up".to_owned(),
+        ..IpcSettings::default()
+    };
+    let node = create_node(&settings, "up-test").unwrap();
+    let mut publisher =
+        SnapshotPublisher::new(&node, &settings, Side::Human, "headset_camera").unwrap();
+    let (data, _event) = open_snapshot(&node, &settings, Side::Human).unwrap();
+    let subscriber = data.subscriber_builder().create().unwrap();
+
+    let limits = Limits::default();
+    let objects = (0..3)
+        .map(|k| SceneObject::new(k, [0.1 * k as f64, 0.0, 1.0], vec![1.0, 0.5]))
+        .collect();
+    let graph = SceneGraph::new(objects, None, &limits).unwrap();
+    let tilted = graph.clone().with_up(Some([0.1, -1.0, 0.2])).unwrap();
+    let entries: Vec<ObjectEntry> = graph
+        .objects()
+        .iter()
+        .map(|o| {
+            let mut feature = [0.0; MAX_FEATURE_DIM];
+            feature[..2].copy_from_slice(&[1.0, 0.5]);
+            ObjectEntry {
+                track_id: o.id,
+                position: o.position.coords.map(|v| v as f32).into(),
+                position_sigma: [0.0; 3],
+                feature,
+            }
+        })
+        .collect();
+
+    let mut receive = |g: &SceneGraph| {
+        publisher
+            .publish(entries.len(), 2, wire_up(g), 7, |i| entries[i])
+            .unwrap();
+        let sample = subscriber.receive().unwrap().expect("a sample");
+        validate_snapshot(sample.user_header(), sample.payload(), Side::Human, &limits).unwrap()
+    };
+    let got = receive(&tilted).graph.up().expect("the up vector");
+    let sent = tilted.up().unwrap();
+    // Single precision on the wire.
+    assert!((got - sent).norm() < 1e-6, "{got} vs {sent}");
+    assert!((got.norm() - 1.0).abs() < 1e-12);
+    assert_eq!(receive(&graph).graph.up(), None);
 }
 
 #[test]

@@ -19,6 +19,8 @@ fn header(count: u32, dim: u32) -> SnapshotHeader {
         object_count: count,
         feature_dim: dim,
         frame_name,
+        up: [0.0; 3],
+        flags: 0,
     }
 }
 
@@ -168,6 +170,53 @@ fn every_defect_has_its_error() {
         check(header(0, 2), &e).unwrap_err(),
         WireError::Graph(GraphError::Empty)
     );
+}
+
+#[test]
+fn an_up_vector_arrives_at_unit_length_only_where_flagged() {
+    let mut h = header(3, 2);
+    h.set_up(Some([0.0, -3.0, 4.0]));
+    let up = check(h, &entries())
+        .unwrap()
+        .graph
+        .up()
+        .expect("an up vector");
+    assert!(
+        (up - nalgebra::Vector3::new(0.0, -0.6, 0.8)).norm() < 1e-7,
+        "{up}"
+    );
+
+    // Without the flag the field means nothing, whatever it holds.
+    let mut h = header(3, 2);
+    h.up = [f32::NAN, 0.0, 0.0];
+    assert_eq!(check(h, &entries()).unwrap().graph.up(), None);
+    assert_eq!(check(header(3, 2), &entries()).unwrap().graph.up(), None);
+}
+
+#[test]
+fn an_up_vector_that_is_no_direction_is_refused() {
+    for bad in [
+        [0.0, 0.0, 0.0],
+        [0.0, 1e-9, 0.0],
+        [f32::NAN, 1.0, 0.0],
+        [0.0, f32::INFINITY, 0.0],
+        [0.0, 0.0, f32::NEG_INFINITY],
+    ] {
+        let mut h = header(3, 2);
+        h.set_up(Some(bad));
+        match check(h, &entries()) {
+            Err(WireError::Graph(GraphError::BadUp { up })) => {
+                let sent = bad.map(f64::from);
+                assert!(
+                    up.iter()
+                        .zip(&sent)
+                        .all(|(a, b)| a == b || (a.is_nan() && b.is_nan())),
+                    "{up:?} is not {sent:?}"
+                );
+            }
+            other => panic!("{bad:?}: {other:?}"),
+        }
+    }
 }
 
 fn ray() -> PointingRay {

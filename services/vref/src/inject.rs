@@ -26,8 +26,9 @@ pub struct InjectArgs {
     /// What to publish (valid, nan, inf, huge, count-over-slice,
     /// count-over-capacity, feature-dim-too-large, feature-dim-other-side,
     /// duplicate-ids, zero-ray, schema-version, sequence-backwards,
-    /// future-stamp, old-stamp, hijack-sequence, hijack-ray: the last two
-    /// take the live feed's session with sequence 2^64-1).
+    /// future-stamp, old-stamp, hijack-sequence, hijack-ray: these two
+    /// take the live feed's session with sequence 2^64-1; bad-up: an up
+    /// vector flagged as known but zero).
     #[arg(long, value_name = "K", value_parser = parse_kind)]
     pub kind: Kind,
     /// Which view's snapshot service to write to (rays ignore it).

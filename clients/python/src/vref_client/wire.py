@@ -1,4 +1,4 @@
-"""The wire types of vref as ctypes structures, schema 2.
+"""The wire types of vref as ctypes structures, schema 3.
 
 Each mirrors a ``#[repr(C)]`` Rust type of ``crates/vref-wire/src/messages.rs``
 field for field, with the iceoryx2 type name the Rust side declares
@@ -16,7 +16,7 @@ from typing import Final
 
 import numpy as np
 
-SCHEMA_VERSION: Final = 2
+SCHEMA_VERSION: Final = 3
 MAX_FEATURE_DIM: Final = 64
 FRAME_NAME_LEN: Final = 32
 MAX_ALTERNATIVES: Final = 3
@@ -42,6 +42,8 @@ class SnapshotHeader(ctypes.Structure):
         ("object_count", _u32),
         ("feature_dim", _u32),
         ("frame_name", _u8 * FRAME_NAME_LEN),
+        ("up", _f32 * 3),
+        ("flags", _u32),
     ]
 
     @staticmethod
@@ -281,6 +283,9 @@ ANSWER_STATUSES: Final = {
     "stale": 4,
     "bad_request": 5,
 }
+#: ``SnapshotHeader.flags`` bits: ``up`` says ``SnapshotHeader.up`` holds the
+#: view's up vector (else it is unknown).
+SNAPSHOT_FLAGS: Final = {"up": 1}
 #: ``ReferenceAnswer.flags`` bits.
 ANSWER_FLAGS: Final = {"solved": 1, "human_position": 2, "human_position_from_motion": 4}
 #: ``DecisionHeader.flags`` bits.
@@ -309,6 +314,7 @@ REJECT_REASONS: Final = {
     "timestamp_too_old": 17,
     "sequence_jump": 18,
     "query_over_rate": 19,
+    "bad_up": 20,
 }
 
 #: Every set of codes, by the name docs/wire-layout.json gives it.
@@ -316,6 +322,7 @@ CODES: Final[dict[str, dict[str, int]]] = {
     "SideCode": SIDE_CODES,
     "QueryKind": QUERY_KINDS,
     "AnswerStatus": ANSWER_STATUSES,
+    "SnapshotHeader.flags": SNAPSHOT_FLAGS,
     "ReferenceAnswer.flags": ANSWER_FLAGS,
     "DecisionHeader.flags": DECISION_HEADER_FLAGS,
     "DecisionEntry.flags": DECISION_ENTRY_FLAGS,

@@ -62,17 +62,20 @@ impl SnapshotPublisher {
     }
 
     /// Publishes `count` objects, the i-th written by `object(i)` straight
-    /// into shared memory, with `feature_dim` used feature entries.
-    /// Returns the snapshot's sequence number.
+    /// into shared memory, with `feature_dim` used feature entries and the
+    /// view's up vector if known ([`crate::wire_up`] of the graph
+    /// published). Returns the snapshot's sequence number.
     pub fn publish(
         &mut self,
         count: usize,
         feature_dim: usize,
+        up: Option<[f32; 3]>,
         timestamp_ns: u64,
         object: impl FnMut(usize) -> ObjectEntry,
     ) -> Result<u64, IpcError> {
         self.sequence += 1;
-        let header = self.header(count, feature_dim, timestamp_ns);
+        let mut header = self.header(count, feature_dim, timestamp_ns);
+        header.set_up(up);
         self.send(header, count, object)?;
         Ok(self.sequence)
     }
@@ -124,6 +127,8 @@ impl SnapshotPublisher {
             object_count: u32::try_from(count).unwrap_or(u32::MAX),
             feature_dim: u32::try_from(feature_dim).unwrap_or(u32::MAX),
             frame_name: self.frame_name,
+            up: [0.0; 3],
+            flags: 0,
         }
     }
 }
