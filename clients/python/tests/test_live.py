@@ -154,6 +154,71 @@ def test_snapshots_published_from_python_are_accepted_and_answered_from(system: 
         assert (solved.robot_sequence, solved.solved) == (1, True)
 
 
+def test_an_up_vector_is_published_with_its_flag_and_a_bad_one_counted_as_bad_up(
+    system: System,
+) -> None:
+    system.start("matcher", "vref-matcher")
+    ids, positions, features = table("human")
+    conn = Connection.create(system.settings, "up-reader")
+    data, event = conn.snapshot("human")
+    subscriber = data.subscriber_builder().create()
+    raw = conn.slice_publisher(data)
+    notifier = event.notifier_builder().create()
+
+    def header() -> wire.SnapshotHeader:
+        sample = eventually(5.0, "a snapshot", subscriber.receive)
+        try:
+            h = wire.SnapshotHeader()
+            ctypes.memmove(ctypes.addressof(h), sample.user_header_ptr, ctypes.sizeof(h))
+        finally:
+            sample.delete()
+        return h
+
+    try:
+        with (
+            StatsReader(**system.ipc) as stats,
+            SnapshotPublisher("human", **system.ipc) as human,
+        ):
+            stats.wait(timeout=READY_S)
+            human.publish(ids, positions, features, up=(0.0, -2.0, 0.5))
+            h = header()
+            assert h.flags == wire.SNAPSHOT_FLAGS["up"]
+            assert tuple(h.up) == (0.0, -2.0, 0.5)
+            wait_stats(stats, "taken", lambda s: s.snapshots_accepted["human"] == 1)
+            human.publish(ids, positions, features)
+            h = header()
+            assert (h.flags, tuple(h.up)) == (0, (0.0, 0.0, 0.0))
+            wait_stats(stats, "taken again", lambda s: s.snapshots_accepted["human"] == 2)
+
+            # Written by hand, past the publisher's checks: the matcher
+            # refuses it under its own reason.
+            sample = raw.loan_slice_uninit(len(ids))
+            bad = wire.SnapshotHeader.from_address(sample.user_header_ptr)
+            ctypes.memset(ctypes.addressof(bad), 0, ctypes.sizeof(bad))
+            bad.session, bad.sequence, bad.timestamp_ns = 77, 1, time.time_ns()
+            bad.schema_version = wire.SCHEMA_VERSION
+            bad.side = wire.SIDE_CODES["human"]
+            bad.object_count, bad.feature_dim = len(ids), features.shape[1]
+            bad.flags = wire.SNAPSHOT_FLAGS["up"]
+            memory = (ctypes.c_uint8 * (len(ids) * wire.OBJECT_ENTRY_DTYPE.itemsize)).from_address(
+                sample.payload_ptr
+            )
+            entries = np.frombuffer(memoryview(memory), dtype=wire.OBJECT_ENTRY_DTYPE)
+            entries["track_id"], entries["position"], entries["position_sigma"] = ids, positions, 0
+            entries["feature"][:] = 0
+            entries["feature"][:, : features.shape[1]] = features
+            del entries, memory
+            sample.assume_init().send()
+            notifier.notify()
+            refused = wait_stats(stats, "refused", lambda s: s.rejected_total > 0)
+            assert refused.rejected["bad_up"] == 1, refused.rejected
+            assert refused.snapshots_accepted["human"] == 2
+    finally:
+        notifier.delete()
+        raw.delete()
+        subscriber.delete()
+
+
 def test_a_snapshot_larger_than_the_initial_segment_is_sent(system: System) -> None:
     system.start("matcher", "vref-matcher")
     n = 150  # more than [ipc] initial_objects (64): the segment must grow
@@ -187,13 +252,21 @@ def test_a_malformed_publish_is_refused_before_it_reaches_the_wire(system: Syste
             "infinite feature": {"features": np.where(features > 0.5, np.inf, features)},
             "frame over 32 bytes": {"frame": "x" * 33},
             "negative id": {"track_ids": np.array([-1, 2, 3, 4, 5, 6])},
+            "zero up": {"up": (0.0, 0.0, 0.0)},
+            "tiny up": {"up": (0.0, 1e-9, 0.0)},
+            "NaN up": {"up": (np.nan, 1.0, 0.0)},
+            "infinite up": {"up": (0.0, np.inf, 0.0)},
+            "up beyond float32": {"up": (1e39, 0.0, 0.0)},
+            "up of two": {"up": (0.0, 1.0)},
         }
         for what, change in cases.items():
             args: dict[str, Any] = {"track_ids": ids, "positions": positions, "features": features}
             args.update(change)
-            with pytest.raises(ValueError):
+            with pytest.raises(ValueError) as refused:
                 robot.publish(**args)
             assert robot.sequence == 0, what
+            if "up" in change:
+                assert str(refused.value).startswith("up"), refused.value
         # Nothing reached the matcher: figures taken after the attempts
         # still count no snapshot...
         done = time.time_ns()

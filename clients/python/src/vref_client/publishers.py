@@ -125,6 +125,7 @@ class SnapshotPublisher(Endpoint):
         position_sigma: float | Sequence[float] | np.ndarray | None = None,
         frame: str | None = None,
         timestamp_ns: int | None = None,
+        up: Sequence[float] | np.ndarray | None = None,
     ) -> int:
         """Publishes one snapshot and returns its sequence number.
 
@@ -134,7 +135,9 @@ class SnapshotPublisher(Endpoint):
         d <= 64 and the same on both sides (``None``: no features).
         ``position_sigma``: one standard deviation per axis, metres, (n, 3)
         or anything that broadcasts to it (``None``: 0). ``timestamp_ns``:
-        capture time since the Unix epoch (``None``: now).
+        capture time since the Unix epoch (``None``: now). ``up``: which way
+        is up (against gravity) in the camera frame, three finite numbers
+        of any non-zero length (``None``: unknown).
 
         Every argument is checked before shared memory is touched: a bad one
         raises ``ValueError`` and nothing is published.
@@ -143,6 +146,7 @@ class SnapshotPublisher(Endpoint):
         ids, pos, feat, sigma = validate.objects(track_ids, positions, features, position_sigma)
         name = validate.frame_bytes(self.frame if frame is None else frame)
         stamp = time.time_ns() if timestamp_ns is None else validate.check_timestamp(timestamp_ns)
+        up_vector = validate.up_vector(up)
         n = int(ids.size)
         dim = int(feat.shape[1])
         sequence = self.sequence + 1
@@ -160,6 +164,12 @@ class SnapshotPublisher(Endpoint):
         header.feature_dim = dim
         ctypes.memset(ctypes.addressof(header.frame_name), 0, wire.FRAME_NAME_LEN)
         ctypes.memmove(ctypes.addressof(header.frame_name), name, len(name))
+        if up_vector is None:
+            header.up[:] = (0.0, 0.0, 0.0)
+            header.flags = 0
+        else:
+            header.up[:] = up_vector
+            header.flags = wire.SNAPSHOT_FLAGS["up"]
         if n:
             memory = (ctypes.c_uint8 * (n * wire.OBJECT_ENTRY_DTYPE.itemsize)).from_address(
                 sample.payload_ptr

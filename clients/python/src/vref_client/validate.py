@@ -15,6 +15,9 @@ from . import wire
 U64_MAX = 2**64 - 1
 #: The matcher takes a ray direction as zero below this length (f64).
 MIN_DIRECTION_NORM = 1e-9
+#: The matcher refuses an up vector shorter than this (f64, of the float32
+#: values sent).
+MIN_UP_NORM = 1e-6
 
 
 def check_u64(name: str, value: Any) -> int:
@@ -57,7 +60,9 @@ def f32_array(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
     if bad.any():
         where = tuple(int(i) for i in np.argwhere(bad)[0])
         raise ValueError(f"{name}{list(where)} is {array[where]}, not a finite number")
-    single = array.astype(np.float32)
+    # Overflow is found and refused below, not warned about.
+    with np.errstate(over="ignore"):
+        single = array.astype(np.float32)
     overflow = ~np.isfinite(single)
     if overflow.any():
         where = tuple(int(i) for i in np.argwhere(overflow)[0])
@@ -84,6 +89,18 @@ def ray_parts(
         raise ValueError(f"direction {list(d)}: must not be zero")
     cone = check_angle(cone_half_angle)
     return o, d, cone
+
+
+def up_vector(up: Any) -> tuple[float, float, float] | None:
+    """A view's up vector as the matcher will accept it: ``None``
+    (unknown), or three finite numbers (after the conversion to float32)
+    at least 1e-6 long, in any units."""
+    if up is None:
+        return None
+    v = vector3("up", up)
+    if math.hypot(*v) < MIN_UP_NORM:
+        raise ValueError(f"up {list(v)}: must not be zero (length at least {MIN_UP_NORM})")
+    return v
 
 
 def check_angle(cone_half_angle: Any) -> float:
