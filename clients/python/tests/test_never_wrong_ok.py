@@ -33,7 +33,11 @@ VARIATIONS = [
 ASK_S = 0.6
 
 
-def views(t: float, features: str) -> tuple[tuple, tuple]:
+#: One view as ``SnapshotPublisher.publish`` takes it: ids, positions, features.
+View = tuple[np.ndarray, np.ndarray, np.ndarray | None]
+
+
+def views(t: float, features: str) -> tuple[View, View]:
     ids = np.array(sorted(HUMAN), np.uint64)
     human = np.array([HUMAN[int(h)] for h in ids], np.float32)
     robot = np.array([robot_position(HUMAN[int(h)]) for h in ids], np.float32)
