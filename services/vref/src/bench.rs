@@ -112,6 +112,7 @@ mod tests {
             noise: vref_match::bench::POSITION_NOISE,
             json: true,
             config: None,
+            up_vectors: false,
         }
     }
 
