@@ -419,10 +419,17 @@ fn draw_answer(
 }
 
 fn caption_text(latest: &Latest, placement: &Placement) -> String {
+    // Whether each view says which way is up: the matcher's methods use
+    // it only when both do.
+    let count = |view: &Option<View>| match view {
+        Some(v) if v.up.is_some() => format!("{} objects, up known", v.objects.len()),
+        Some(v) => format!("{} objects", v.objects.len()),
+        None => "0 objects".to_owned(),
+    };
     let views = format!(
-        "robot {} objects, headset {} objects",
-        latest.robot.as_ref().map_or(0, |v| v.objects.len()),
-        latest.human.as_ref().map_or(0, |v| v.objects.len())
+        "robot {}, headset {}",
+        count(&latest.robot),
+        count(&latest.human)
     );
     let decision = match &latest.decision {
         Some(d) => {
@@ -462,6 +469,7 @@ mod tests {
             sequence: 5,
             timestamp_ns: 0,
             objects: objects.to_vec(),
+            up: None,
         }
     }
 
@@ -614,6 +622,19 @@ mod tests {
         assert_eq!(ray.cylinders.len(), 1);
         let caption = &find(&update, entity::CAPTION).texts[0].text;
         assert!(caption.contains("no decision"), "{caption}");
+        assert!(!caption.contains("up known"), "{caption}");
+    }
+
+    #[test]
+    fn the_caption_says_which_views_know_which_way_is_up() {
+        let mut l = latest(false);
+        if let Some(human) = &mut l.human {
+            human.up = Some([0.0, -1.0, 0.0]);
+        }
+        let update = draw(&l);
+        let caption = &find(&update, entity::CAPTION).texts[0].text;
+        assert!(caption.contains("headset 3 objects, up known"), "{caption}");
+        assert!(!caption.contains("robot 3 objects, up known"), "{caption}");
     }
 
     #[test]

@@ -12,6 +12,8 @@ pub struct View {
     pub sequence: u64,
     pub timestamp_ns: u64,
     pub objects: Vec<(u64, [f64; 3])>,
+    /// The view's up vector as sent (not checked), if it said one.
+    pub up: Option<[f32; 3]>,
 }
 
 impl View {
@@ -34,6 +36,7 @@ impl View {
                 .filter(|e| e.position.iter().all(|v| v.is_finite()))
                 .map(|e| (e.track_id, e.position.map(f64::from)))
                 .collect(),
+            up: header.up(),
         }
     }
 
