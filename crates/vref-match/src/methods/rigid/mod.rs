@@ -30,6 +30,16 @@ pub(super) fn solve(problem: &Problem, params: &Params) -> Solution {
     solve_from(problem, params, None).0
 }
 
+/// Hypotheses the margin's null is sampled from: fewer where both views
+/// know up, as the search itself draws fewer.
+fn chance_samples(problem: &Problem, rp: &RigidParams) -> usize {
+    if problem.gravity().is_some() {
+        rp.chance_samples_upright
+    } else {
+        rp.chance_samples
+    }
+}
+
 /// [`solve`], starting from what the last solve of the same (changing)
 /// scene left (`last`) where its motions still explain the scene, instead
 /// of searching; returns what this solve leaves for the next, and whether
@@ -124,14 +134,14 @@ pub(crate) fn solve_from(
     // this scene that no motion explains: the calibration weighs it.
     let margin = match &found {
         _ if from.is_some() => from.map(|t| t.margin),
-        Some(f) if rp.chance_samples > 0 && !f.settled => {
+        Some(f) if chance_samples(problem, rp) > 0 && !f.settled => {
             let best = motion.as_ref().unwrap_or(&f.motion);
             let null = coincidence::null_view(problem, rp.seed);
             let mut null_costs = Costs::new(&null, &log_g, spacing, rp);
             if let Some(noise) = costs.rays.as_ref().map(|r| r.noise) {
                 null_costs = null_costs.with_noise(noise);
             }
-            let chance = chance_inliers(&null_costs, rp, rp.chance_samples, None);
+            let chance = chance_inliers(&null_costs, rp, chance_samples(problem, rp), None);
             coincidence::margin(&chance, score_of(&costs, rp, best), f.tests)
         }
         _ => None,

@@ -22,6 +22,11 @@ pub struct RigidParams {
     pub candidates: usize,
     /// Distance-consistent hypotheses scored.
     pub hypotheses: usize,
+    /// The same where both views know which way is up: a hypothesis is
+    /// then fitted to two pairs, not three, and is all right at the
+    /// chance of two right pairs, not three, so fewer are needed for the
+    /// same chance of drawing a right one (docs/method.md, "Gravity").
+    pub hypotheses_upright: usize,
     /// Residual scale as a multiple of the robot view's median distance
     /// between nearest neighbours: position error and object spacing grow
     /// together with the range a camera works at (centimetres on a table,
@@ -112,6 +117,10 @@ pub struct RigidParams {
     /// chance in the scene; a partner is only as sure as the best motion is
     /// unlike chance (0: not measured, every motion taken as real).
     pub chance_samples: usize,
+    /// The same where both views know up: the search then scores half as
+    /// many hypotheses, and the null it is weighed against is sampled the
+    /// same way.
+    pub chance_samples_upright: usize,
     /// Rows of shuffled copies of the scene (about; whole copies, at most
     /// 64) whose cheapest pairs under the best motion measure the chance
     /// rate of the significance test (`significance.rs`); 0: not measured.
@@ -155,6 +164,7 @@ impl Default for RigidParams {
             appearance_floor: 0.1,
             candidates: 6,
             hypotheses: 200,
+            hypotheses_upright: 100,
             sigma_factor: 0.4,
             stated_errors: true,
             depth_error: 0.065,
@@ -177,6 +187,7 @@ impl Default for RigidParams {
             never_empty: true,
             same_side: true,
             chance_samples: 32,
+            chance_samples_upright: 16,
             clipper_seed_pairs: 0,
             chance_rows: 512,
             chance_rule: true,
@@ -213,6 +224,7 @@ impl RigidParams {
         for (name, count) in [
             ("rigid.candidates", self.candidates),
             ("rigid.hypotheses", self.hypotheses),
+            ("rigid.hypotheses_upright", self.hypotheses_upright),
         ] {
             if count == 0 {
                 return Err(MatchError::BadParameter {

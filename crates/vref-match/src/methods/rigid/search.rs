@@ -55,8 +55,14 @@ pub(super) fn search(
     // Every sample checks its pairs' distances: computed once.
     let (human_d, robot_d) = (distances(hp), distances(rpos));
     let heights = heights(problem);
+    let size = sample_size(&heights);
+    let hypotheses = if heights.is_some() {
+        rp.hypotheses_upright
+    } else {
+        rp.hypotheses
+    };
     let mut top: Vec<Scored> = Vec::new();
-    let max_attempts = rp.hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
+    let max_attempts = hypotheses.saturating_mul(ATTEMPTS_PER_HYPOTHESIS);
     let mut consistent: Vec<usize> = Vec::with_capacity(m);
     let mut scratch = Scratch::default();
     let side = Side::of(problem);
@@ -115,15 +121,22 @@ pub(super) fn search(
         let mut scored = 0;
         let mut attempts = 0;
         let mut drawn = Vec::new();
-        while scored < rp.hypotheses && attempts < max_attempts {
+        while scored < hypotheses && attempts < max_attempts {
             attempts += 1;
-            let Some(s) = draw_sample(rng, &human_order, &candidates, &edges, &mut consistent)
-            else {
+            let Some(s) = draw_sample(
+                rng,
+                &human_order,
+                &candidates,
+                &edges,
+                size,
+                &mut consistent,
+            ) else {
                 continue;
             };
             let from = s.map(|(i, _)| hp[i]);
             let to = s.map(|(_, j)| rpos[j]);
-            let Some(motion) = problem.fit_motion(&from, &to, &[1.0; 3]) else {
+            let Some(motion) = problem.fit_motion(&from[..size], &to[..size], &[1.0; 3][..size])
+            else {
                 continue;
             };
             if rp.same_side && !side.allows(&motion) {
@@ -243,13 +256,20 @@ pub(super) fn chance_inliers(
         if drawn >= samples {
             break;
         }
-        let Some(s) = draw_sample(&mut rng, &human_order, &candidates, &edges, &mut consistent)
-        else {
+        let size = sample_size(&heights);
+        let Some(s) = draw_sample(
+            &mut rng,
+            &human_order,
+            &candidates,
+            &edges,
+            size,
+            &mut consistent,
+        ) else {
             continue;
         };
         let from = s.map(|(i, _)| hp[i]);
         let to = s.map(|(_, j)| rpos[j]);
-        let Some(motion) = problem.fit_motion(&from, &to, &[1.0; 3]) else {
+        let Some(motion) = problem.fit_motion(&from[..size], &to[..size], &[1.0; 3][..size]) else {
             continue;
         };
         if rp.same_side && !side.allows(&motion) {
@@ -379,7 +399,13 @@ impl Edges<'_> {
     /// sample's edge.
     fn human_edge(&self, i: usize, j: usize) -> Option<f64> {
         let d = self.human[i * self.n + j];
-        (i != j && d > self.min_edge).then_some(d)
+        // Where up is known a sample's edge fixes the turn about it only
+        // by its level part: an edge along up fixes none.
+        let level = self.heights.map_or(d, |(h, _)| {
+            let rise = h[j] - h[i];
+            (d * d - rise * rise).max(0.0).sqrt()
+        });
+        (i != j && level > self.min_edge).then_some(d)
     }
 
     /// Whether robot objects `a` and `b` are distinct and as far apart as
@@ -409,23 +435,31 @@ fn heights(problem: &Problem) -> Option<(Vec<f64>, Vec<f64>)> {
     ))
 }
 
-/// One sample of three candidate pairs, by guided sampling: the second and
-/// third pairs are drawn only among the candidates whose distances agree
-/// with the pairs drawn before (`edges`), so that a right first pair is
-/// likely to grow into a right sample even when a row has many look-alike
-/// candidates. `None` when a row has no consistent candidate.
+/// Candidate pairs a hypothesis is fitted to: three fix a motion, two
+/// where both up vectors are known (a turn about up and a translation).
+fn sample_size(heights: &Option<(Vec<f64>, Vec<f64>)>) -> usize {
+    if heights.is_some() { 2 } else { 3 }
+}
+
+/// One sample of `size` (2 or 3) candidate pairs, in the first `size`
+/// entries, by guided sampling: each pair after the first is drawn only
+/// among the candidates whose distances agree with the pairs drawn before
+/// (`edges`), so that a right first pair is likely to grow into a right
+/// sample even when a row has many look-alike candidates. `None` when a
+/// row has no consistent candidate.
 fn draw_sample(
     rng: &mut SplitMix,
     human_order: &[usize],
     candidates: &[Vec<usize>],
     edges: &Edges<'_>,
+    size: usize,
     consistent: &mut Vec<usize>,
 ) -> Option<[(usize, usize); 3]> {
     let n = human_order.len();
     let i = human_order[rng.below(n)];
     let first = (i, candidates[i][rng.below(candidates[i].len())]);
     let mut s = [first; 3];
-    for k in 1..3 {
+    for k in 1..size.min(3) {
         let row = human_order[rng.below(n)];
         // The human edges to the pairs drawn before are the row's, not each
         // candidate's: checked once (most samples fail here in scenes
@@ -774,7 +808,7 @@ mod tests {
         let mut consistent = Vec::new();
         let (mut drawn, mut failed) = (0, 0);
         for _ in 0..2000 {
-            let Some(s) = draw_sample(&mut rng, &order, &candidates, &edges, &mut consistent)
+            let Some(s) = draw_sample(&mut rng, &order, &candidates, &edges, 3, &mut consistent)
             else {
                 failed += 1;
                 continue;
@@ -794,5 +828,51 @@ mod tests {
             drawn > 100 && failed > 100,
             "drawn {drawn}, failed {failed}"
         );
+    }
+
+    /// Where both views know up, a sample is two pairs whose level edge is
+    /// longer than the shortest allowed (an edge along up fixes no turn)
+    /// and whose rise agrees within the tolerance.
+    #[test]
+    fn an_upright_sample_is_two_pairs_that_rise_alike() {
+        let mut rng = SplitMix(9);
+        let (n, m) = (12, 14);
+        let (human, robot) = (cloud(&mut rng, n), cloud(&mut rng, m));
+        let (human_d, robot_d) = (distances(&human), distances(&robot));
+        let (h, r): (Vec<f64>, Vec<f64>) = (
+            human.iter().map(|p| p.z).collect(),
+            robot.iter().map(|p| p.z).collect(),
+        );
+        let order: Vec<usize> = (0..n).collect();
+        let candidates: Vec<Vec<usize>> = (0..n).map(|_| (0..m).collect()).collect();
+        let (tolerance, min_edge) = (0.05, 0.2);
+        let edges = Edges {
+            human: &human_d,
+            robot: &robot_d,
+            n,
+            m,
+            tolerance,
+            min_edge,
+            heights: Some((&h, &r)),
+        };
+        let mut consistent = Vec::new();
+        let mut drawn = 0;
+        for _ in 0..2000 {
+            let Some(s) = draw_sample(&mut rng, &order, &candidates, &edges, 2, &mut consistent)
+            else {
+                continue;
+            };
+            drawn += 1;
+            let ((i, a), (j, b)) = (s[0], s[1]);
+            let rise = h[j] - h[i];
+            let level = (human_d[i * n + j].powi(2) - rise * rise).sqrt();
+            assert!(i != j && a != b, "{s:?}");
+            assert!(level > min_edge, "level edge {level} in {s:?}");
+            assert!((rise - (r[b] - r[a])).abs() <= tolerance, "rise in {s:?}");
+            assert!((human_d[i * n + j] - robot_d[a * m + b]).abs() <= tolerance);
+            // The third entry is not part of a two-pair sample.
+            assert_eq!(s[2], s[0]);
+        }
+        assert!(drawn > 100, "drawn {drawn}");
     }
 }
