@@ -28,7 +28,9 @@ def measures(rows):
     sig = -4.0 if r["significance"] is None else max(-10.0, min(10.0, r["significance"]))
     smaller = max(1, min(r["human_objects"], r["robot_objects"]))
     share = sum(x["matched"] for x in rows) / smaller
-    return [margin, settled, sig, r["fit"], share, math.log(smaller)]
+    unseen = r.get("unseen")
+    return [margin, settled, sig, r["fit"], share, math.log(smaller),
+            0.0 if unseen is None else unseen]
 
 
 def logistic(x, y, weights, l2=1e-3, rounds=50):
@@ -66,7 +68,7 @@ def main(work):
     weights = np.where(y == 1, 0.5 / y.sum(), 0.5 / (1 - y).sum())
     b, p = logistic(x, y, weights)
     print("scenes: real %d, unrelated %d" % (y.sum(), (1 - y).sum()))
-    print("weights (margin, settled, significance, fit, share, ln size, bias):",
+    print("weights (margin, settled, significance, fit, share, ln size, unseen, bias):",
           " ".join("%.3f" % v for v in b))
     odds = p / (1 - p)
     print()
@@ -93,6 +95,30 @@ def main(work):
         label = "as today (none)" if prior is None else "%.2f" % prior
         print("| %s | %d of %d (%.1f%%) | %.3f | %d |"
               % (label, ok_null, total_null, 100 * ok_null / total_null, worst, right_ok))
+    unseen_table(rows, y)
+
+
+def unseen_table(rows, y):
+    """What a hard rule on the unseen share alone would take: `ok`
+    answers of scenes above each threshold, real (right ones) and
+    unrelated."""
+    print()
+    print("| unseen share above | real `ok` answers above it (right) | unrelated `ok` answers above it |")
+    print("|---|---|---|")
+    null_ok = sum(a["status"] == "ok" for k, sc in enumerate(rows) if y[k] == 0 for a in sc)
+    for t in [0.15, 0.2, 0.25, 0.3, 0.4]:
+        real_ok = right = unrelated = 0
+        for k, scene in enumerate(rows):
+            u = scene[0].get("unseen")
+            if u is None or u <= t:
+                continue
+            ok = [a for a in scene if a["status"] == "ok"]
+            if y[k] == 1:
+                real_ok += len(ok)
+                right += sum(a["correct"] for a in ok)
+            else:
+                unrelated += len(ok)
+        print("| %.2f | %d (%d) | %d of %d |" % (t, real_ok, right, unrelated, null_ok))
 
 
 if __name__ == "__main__":

@@ -49,6 +49,9 @@ pub struct RowAnswer {
     /// The method's fit of its motion (its score over the largest
     /// possible), where it has one.
     pub fit: Option<f64>,
+    /// Share of both views' objects the method's motion says the other
+    /// camera should have seen and did not ([`crate::unseen_share`]).
+    pub unseen: Option<f64>,
 }
 
 /// One method's result over all scenes added.
@@ -119,6 +122,8 @@ impl Evaluation {
             let solution = solve_with(method, &problem, &params, options)?;
             self.solve_times[k] += start.elapsed();
             let predicted = solution.id_pairs(&pair.human, &pair.robot);
+            let unseen =
+                crate::unseen_share(&problem, &solution.assignment, solution.motion.as_ref());
             for (row, (a, &confidence)) in solution
                 .assignment
                 .iter()
@@ -139,6 +144,7 @@ impl Evaluation {
                     margin: solution.margin,
                     significance: solution.significance,
                     fit: solution.fit,
+                    unseen,
                 });
             }
             self.scores[k].push(score_scene(&human_ids, &predicted, &pair.ground_truth));

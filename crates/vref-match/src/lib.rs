@@ -43,7 +43,7 @@ pub use candidates::candidate_pairs;
 pub use distances::distance_matrix;
 pub use error::MatchError;
 pub use evaluation::{Evaluation, MethodReport, RowAnswer};
-pub use fit::{OkRule, Verdict, pair_residuals};
+pub use fit::{OkRule, Verdict, pair_residuals, unseen_share};
 pub use hungarian::{Hungarian, hungarian_max};
 pub use methods::{
     ClipperParams, Method, RigidParams, SolveOptions, rigid_assignment_under, solve, solve_with,

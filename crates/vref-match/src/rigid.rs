@@ -23,6 +23,15 @@ impl RigidMotion {
         Point3::from(self.rotation * p.coords + self.translation)
     }
 
+    /// The motion back: `p = rotation^T (q - translation)`.
+    pub fn inverse(&self) -> Self {
+        let rotation = self.rotation.transpose();
+        Self {
+            rotation,
+            translation: -(rotation * self.translation),
+        }
+    }
+
     /// The least-squares proper rigid motion taking each `from[k]` to
     /// `to[k]` with weight `weights[k]` (Kabsch). A reflection is never
     /// returned: when the best orthogonal fit is a mirror, the sign of its
