@@ -109,6 +109,77 @@ impl OkRule {
     }
 }
 
+/// What the motion says each camera should have seen and did not: the
+/// objects without a partner that, moved into the other view's frame,
+/// fall inside that camera's view (the angular box and depth range its
+/// own objects span), over all objects of both views. Views sharing a
+/// scene leave unpaired mostly what the other camera does not see; a
+/// motion that pairs unrelated views by chance puts the rest of one
+/// table in plain sight of the other camera. `None` without a motion or
+/// where a view is not in its camera's frame (an object at z <= 0).
+pub fn unseen_share(
+    problem: &Problem,
+    assignment: &[Option<usize>],
+    motion: Option<&RigidMotion>,
+) -> Option<f64> {
+    let motion = motion?;
+    let inverse = motion.inverse();
+    let human_view = View::of(&problem.human_positions)?;
+    let robot_view = View::of(&problem.robot_positions)?;
+    let mut paired_robot = vec![false; problem.m];
+    for j in assignment.iter().flatten() {
+        if let Some(p) = paired_robot.get_mut(*j) {
+            *p = true;
+        }
+    }
+    let human_unseen = problem
+        .human_positions
+        .iter()
+        .zip(assignment)
+        .filter(|(h, a)| a.is_none() && robot_view.holds(&motion.apply(h)))
+        .count();
+    let robot_unseen = problem
+        .robot_positions
+        .iter()
+        .zip(&paired_robot)
+        .filter(|(r, paired)| !**paired && human_view.holds(&inverse.apply(r)))
+        .count();
+    let all = problem.n + problem.m;
+    (all > 0).then(|| (human_unseen + robot_unseen) as f64 / all as f64)
+}
+
+/// The part of space a camera is taken to see: the box of directions
+/// (x / z, y / z) and the depths its own objects span.
+struct View {
+    low: [f64; 3],
+    high: [f64; 3],
+}
+
+impl View {
+    fn of(points: &[nalgebra::Point3<f64>]) -> Option<Self> {
+        let mut low = [f64::INFINITY; 3];
+        let mut high = [f64::NEG_INFINITY; 3];
+        for p in points {
+            if p.z.is_nan() || p.z <= 0.0 {
+                return None;
+            }
+            for (k, v) in [p.x / p.z, p.y / p.z, p.z].into_iter().enumerate() {
+                low[k] = low[k].min(v);
+                high[k] = high[k].max(v);
+            }
+        }
+        low[0].is_finite().then_some(Self { low, high })
+    }
+
+    fn holds(&self, p: &nalgebra::Point3<f64>) -> bool {
+        p.z > 0.0
+            && [p.x / p.z, p.y / p.z, p.z]
+                .into_iter()
+                .enumerate()
+                .all(|(k, v)| v >= self.low[k] && v <= self.high[k])
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
@@ -191,75 +262,27 @@ mod tests {
         };
         assert_eq!(off.verdict(0.99, true, Some(1e9)), Verdict::Ok);
     }
-}
 
-/// What the motion says each camera should have seen and did not: the
-/// objects without a partner that, moved into the other view's frame,
-/// fall inside that camera's view (the angular box and depth range its
-/// own objects span), over all objects of both views. Views sharing a
-/// scene leave unpaired mostly what the other camera does not see; a
-/// motion that pairs unrelated views by chance puts the rest of one
-/// table in plain sight of the other camera. `None` without a motion or
-/// where a view is not in its camera's frame (an object at z <= 0).
-pub fn unseen_share(
-    problem: &Problem,
-    assignment: &[Option<usize>],
-    motion: Option<&RigidMotion>,
-) -> Option<f64> {
-    let motion = motion?;
-    let inverse = motion.inverse();
-    let human_view = View::of(&problem.human_positions)?;
-    let robot_view = View::of(&problem.robot_positions)?;
-    let mut paired_robot = vec![false; problem.m];
-    for j in assignment.iter().flatten() {
-        if let Some(p) = paired_robot.get_mut(*j) {
-            *p = true;
-        }
-    }
-    let human_unseen = problem
-        .human_positions
-        .iter()
-        .zip(assignment)
-        .filter(|(h, a)| a.is_none() && robot_view.holds(&motion.apply(h)))
-        .count();
-    let robot_unseen = problem
-        .robot_positions
-        .iter()
-        .zip(&paired_robot)
-        .filter(|(r, paired)| !**paired && human_view.holds(&inverse.apply(r)))
-        .count();
-    let all = problem.n + problem.m;
-    (all > 0).then(|| (human_unseen + robot_unseen) as f64 / all as f64)
-}
-
-/// The part of space a camera is taken to see: the box of directions
-/// (x / z, y / z) and the depths its own objects span.
-struct View {
-    low: [f64; 3],
-    high: [f64; 3],
-}
-
-impl View {
-    fn of(points: &[nalgebra::Point3<f64>]) -> Option<Self> {
-        let mut low = [f64::INFINITY; 3];
-        let mut high = [f64::NEG_INFINITY; 3];
-        for p in points {
-            if !(p.z > 0.0) {
-                return None;
-            }
-            for (k, v) in [p.x / p.z, p.y / p.z, p.z].into_iter().enumerate() {
-                low[k] = low[k].min(v);
-                high[k] = high[k].max(v);
-            }
-        }
-        low[0].is_finite().then_some(Self { low, high })
-    }
-
-    fn holds(&self, p: &nalgebra::Point3<f64>) -> bool {
-        p.z > 0.0
-            && [p.x / p.z, p.y / p.z, p.z]
-                .into_iter()
-                .enumerate()
-                .all(|(k, v)| v >= self.low[k] && v <= self.high[k])
+    /// An unpaired object the motion puts among the other camera's own
+    /// objects counts as unseen; one it puts out of that camera's view
+    /// does not; a paired one never.
+    #[test]
+    fn unseen_counts_unpaired_objects_in_the_other_view() {
+        // Three objects 0.2 m apart at 1 m, the same in both views.
+        let p = problem(0.0, 0.0);
+        let all = Some(&identity());
+        assert_eq!(unseen_share(&p, &[Some(0), Some(1), Some(2)], all), Some(0.0));
+        // Human 1 unpaired (inside the robot's view), robot 1 too.
+        assert_eq!(
+            unseen_share(&p, &[Some(0), None, Some(2)], all),
+            Some(2.0 / 6.0)
+        );
+        // Moved 1 m to the side, nothing of one view is in the other's.
+        let aside = RigidMotion {
+            rotation: Matrix3::identity(),
+            translation: Vector3::new(1.0, 0.0, 0.0),
+        };
+        assert_eq!(unseen_share(&p, &[None, None, None], Some(&aside)), Some(0.0));
+        assert_eq!(unseen_share(&p, &[None, None, None], None), None);
     }
 }
