@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import HUMAN, System, robot_id, robot_position
-from vref_client import ReferenceClient, SnapshotPublisher
+from vref_client import DecisionReader, ReferenceClient, SnapshotPublisher
 
 RUNS = int(os.environ.get("VREF_TABLE_RUNS", "1"))
 #: (features, stated sigma): none or identical features, the errors the
@@ -31,6 +31,8 @@ VARIATIONS = [
 ]
 #: How long each human object is asked about, in seconds.
 ASK_S = 0.6
+#: config/vref.toml's `[matcher] fit_limit`: no `ok` pair's residual exceeds it.
+FIT_LIMIT = 70.4
 
 
 #: One view as ``SnapshotPublisher.publish`` takes it: ids, positions, features.
@@ -63,6 +65,7 @@ def test_the_table_scene_is_never_answered_ok_and_wrong(
         ReferenceClient(**system.ipc) as client,
         SnapshotPublisher("robot", **system.ipc) as robot,
         SnapshotPublisher("human", **system.ipc) as human,
+        DecisionReader(**system.ipc) as decisions,
     ):
         client.wait_for_matcher(timeout=30.0)
         # One side may come alone for a while before the other.
@@ -84,6 +87,15 @@ def test_the_table_scene_is_never_answered_ok_and_wrong(
                 a = client.by_human_object(h, timeout=1.0)
                 answers.append((h, a.status, a.robot_track_id, a.confidence))
                 time.sleep(1 / 30)
+        decision = decisions.wait(timeout=5.0)
+    # The decision states the motion's residuals (the errors are stated on
+    # both sides), and every `ok` pair passes the fit test.
+    assert decision.residual_median is not None
+    for p in decision.pairs:
+        if p.robot_track_id is not None:
+            assert p.residual is not None, p
+        if p.status == "ok":
+            assert p.residual is not None and p.residual <= FIT_LIMIT, p
     wrong = [x for x in answers if x[1] == "ok" and x[2] != robot_id(x[0])]
     assert not wrong, f"{len(wrong)} wrong ok answers of {len(answers)}, e.g. {wrong[:3]}"
     right = [x for x in answers if x[1] == "ok" and x[2] == robot_id(x[0])]

@@ -234,11 +234,13 @@ pub fn encode_decision(h: &DecisionHeader, entries: &[DecisionEntry]) -> Vec<u8>
     w.f32s(&h.translation);
     w.u32s(&[h.pair_count, h.flags]);
     w.bytes(&h.method);
-    w.u32s(&[h.schema_version, h.reserved]);
+    w.u32s(&[h.schema_version]);
+    w.f32s(&[h.residual_median]);
     for e in entries {
         w.u64s(&[e.human_track_id, e.robot_track_id]);
         w.f32s(&[e.confidence]);
-        w.u32s(&[e.status, e.flags, e.reserved]);
+        w.u32s(&[e.status, e.flags]);
+        w.f32s(&[e.residual]);
     }
     w.0
 }
@@ -274,7 +276,7 @@ pub fn decode_decision(bytes: &[u8]) -> Result<(DecisionHeader, Vec<DecisionEntr
         flags: r.u32(),
         method: r.array(),
         schema_version: r.u32(),
-        reserved: r.u32(),
+        residual_median: r.f32(),
     };
     if header.pair_count as usize != carried {
         return Err(CodecError::Count {
@@ -289,7 +291,7 @@ pub fn decode_decision(bytes: &[u8]) -> Result<(DecisionHeader, Vec<DecisionEntr
             confidence: r.f32(),
             status: r.u32(),
             flags: r.u32(),
-            reserved: r.u32(),
+            residual: r.f32(),
         })
         .collect();
     Ok((header, entries))
@@ -570,7 +572,7 @@ mod tests {
                 confidence: 0.9,
                 status: 0,
                 flags: DecisionEntry::FLAG_PARTNER,
-                reserved: 0,
+                residual: 0.0,
             },
             DecisionEntry {
                 human_track_id: 2,

@@ -766,7 +766,7 @@ mod tests {
                 confidence: 0.9,
                 status: AnswerStatus::Ok as u32,
                 flags: DecisionEntry::FLAG_PARTNER,
-                reserved: 0,
+                residual: 0.0,
             },
             DecisionEntry {
                 human_track_id: 2,

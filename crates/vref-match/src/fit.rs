@@ -271,7 +271,10 @@ mod tests {
         // Three objects 0.2 m apart at 1 m, the same in both views.
         let p = problem(0.0, 0.0);
         let all = Some(&identity());
-        assert_eq!(unseen_share(&p, &[Some(0), Some(1), Some(2)], all), Some(0.0));
+        assert_eq!(
+            unseen_share(&p, &[Some(0), Some(1), Some(2)], all),
+            Some(0.0)
+        );
         // Human 1 unpaired (inside the robot's view), robot 1 too.
         assert_eq!(
             unseen_share(&p, &[Some(0), None, Some(2)], all),
@@ -282,7 +285,10 @@ mod tests {
             rotation: Matrix3::identity(),
             translation: Vector3::new(1.0, 0.0, 0.0),
         };
-        assert_eq!(unseen_share(&p, &[None, None, None], Some(&aside)), Some(0.0));
+        assert_eq!(
+            unseen_share(&p, &[None, None, None], Some(&aside)),
+            Some(0.0)
+        );
         assert_eq!(unseen_share(&p, &[None, None, None], None), None);
     }
 }

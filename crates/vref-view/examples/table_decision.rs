@@ -53,7 +53,7 @@ fn main() {
                 confidence: 0.95,
                 status: AnswerStatus::Ok as u32,
                 flags: DecisionEntry::FLAG_PARTNER,
-                reserved: 0,
+                residual: 0.0,
             })
             .unwrap();
         rays.publish([0.0; 3], humans[1].position, 0.05, 0.9)

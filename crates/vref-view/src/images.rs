@@ -357,7 +357,7 @@ mod tests {
                 confidence: 0.93,
                 status: AnswerStatus::Ok as u32,
                 flags: DecisionEntry::FLAG_PARTNER,
-                reserved: 0,
+                residual: 0.0,
             }],
         });
         let decided = annotations(&c, Side::Human, &latest, "s", time());

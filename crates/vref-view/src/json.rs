@@ -223,7 +223,7 @@ mod tests {
                 confidence: 0.5,
                 status: AnswerStatus::NoMatch as u32,
                 flags: 0,
-                reserved: 0,
+                residual: 0.0,
             }],
         };
         let message = decision(&d);

@@ -439,10 +439,11 @@ fn caption_text(latest: &Latest, placement: &Placement) -> String {
                 .filter(|e| Outcome::of_entry(e) == Outcome::Matched)
                 .count();
             format!(
-                "{} solve #{}: {matched} of {} matched",
+                "{} solve #{}: {matched} of {} matched{}",
                 d.method(),
                 d.header.solve_index,
-                d.entries.len()
+                d.entries.len(),
+                residuals(d)
             )
         }
         None => "no decision published".to_owned(),
@@ -453,6 +454,26 @@ fn caption_text(latest: &Latest, placement: &Placement) -> String {
         "no motion estimate: headset view drawn beside"
     };
     format!("vref | {views} | {decision} | {motion}")
+}
+
+/// The motion's residual statistics, where the decision carries them:
+/// its pairs' median squared residual in units of the stated errors and
+/// the largest, so that a motion that fits its pairs worse than the
+/// sensors say they err is plain to see.
+fn residuals(d: &vref_wire::ipc::Decision) -> String {
+    if d.header.flags & vref_wire::DecisionHeader::FLAG_RESIDUALS == 0 {
+        return String::new();
+    }
+    let largest = d
+        .entries
+        .iter()
+        .filter(|e| e.flags & DecisionEntry::FLAG_RESIDUAL != 0)
+        .map(|e| e.residual)
+        .fold(f32::NEG_INFINITY, f32::max);
+    format!(
+        ", residual median {:.1} max {:.1} (stated errors\u{b2})",
+        d.header.residual_median, largest
+    )
 }
 
 #[cfg(test)]
@@ -484,7 +505,7 @@ mod tests {
             } else {
                 0
             },
-            reserved: 0,
+            residual: 0.0,
         }
     }
 
@@ -623,6 +644,21 @@ mod tests {
         let caption = &find(&update, entity::CAPTION).texts[0].text;
         assert!(caption.contains("no decision"), "{caption}");
         assert!(!caption.contains("up known"), "{caption}");
+    }
+
+    #[test]
+    fn the_caption_gives_the_motion_s_residuals_where_the_decision_has_them() {
+        let mut l = latest(true);
+        let caption = |l: &Latest| find(&draw(l), entity::CAPTION).texts[0].text.clone();
+        assert!(!caption(&l).contains("residual"), "{}", caption(&l));
+        if let Some(d) = &mut l.decision {
+            d.header.flags |= DecisionHeader::FLAG_RESIDUALS;
+            d.header.residual_median = 2.4;
+            d.entries[0].flags |= DecisionEntry::FLAG_RESIDUAL;
+            d.entries[0].residual = 9.25;
+        }
+        let text = caption(&l);
+        assert!(text.contains("residual median 2.4 max 9.2"), "{text}");
     }
 
     #[test]

@@ -192,7 +192,7 @@ impl WireBytes for DecisionHeader {
         put_u32(out, self.flags);
         out.extend_from_slice(&self.method);
         put_u32(out, self.schema_version);
-        put_u32(out, self.reserved);
+        put_f32s(out, &[self.residual_median]);
     }
 
     fn take(input: &mut &[u8]) -> Option<Self> {
@@ -212,7 +212,7 @@ impl WireBytes for DecisionHeader {
             flags: take_u32(input)?,
             method: chunk::<16>(input)?,
             schema_version: take_u32(input)?,
-            reserved: take_u32(input)?,
+            residual_median: take_f32(input)?,
         })
     }
 }
@@ -223,9 +223,10 @@ impl WireBytes for DecisionEntry {
     fn put(&self, out: &mut Vec<u8>) {
         put_u64s(out, &[self.human_track_id, self.robot_track_id]);
         put_f32s(out, &[self.confidence]);
-        for v in [self.status, self.flags, self.reserved] {
+        for v in [self.status, self.flags] {
             put_u32(out, v);
         }
+        put_f32s(out, &[self.residual]);
     }
 
     fn take(input: &mut &[u8]) -> Option<Self> {
@@ -235,7 +236,7 @@ impl WireBytes for DecisionEntry {
             confidence: take_f32(input)?,
             status: take_u32(input)?,
             flags: take_u32(input)?,
-            reserved: take_u32(input)?,
+            residual: take_f32(input)?,
         })
     }
 }
@@ -487,7 +488,7 @@ mod tests {
             confidence: 0.75,
             status: AnswerStatus::Ok as u32,
             flags: DecisionEntry::FLAG_PARTNER,
-            reserved: 0,
+            residual: 0.0,
         }];
         let mut bytes = Vec::new();
         put_sample(&header, &entries, &mut bytes);

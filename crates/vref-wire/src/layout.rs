@@ -222,7 +222,7 @@ pub fn wire_types() -> Vec<TypeLayout> {
             flags,
             method,
             schema_version,
-            reserved,
+            residual_median,
         }),
         layout!(DecisionEntry {
             human_track_id,
@@ -230,7 +230,7 @@ pub fn wire_types() -> Vec<TypeLayout> {
             confidence,
             status,
             flags,
-            reserved,
+            residual,
         }),
     ]
 }
@@ -383,18 +383,30 @@ pub fn codes() -> Vec<Codes> {
         bits(
             "DecisionHeader.flags",
             "DecisionHeader.flags",
-            vec![Code {
-                name: "motion",
-                value: DecisionHeader::FLAG_MOTION,
-            }],
+            vec![
+                Code {
+                    name: "motion",
+                    value: DecisionHeader::FLAG_MOTION,
+                },
+                Code {
+                    name: "residuals",
+                    value: DecisionHeader::FLAG_RESIDUALS,
+                },
+            ],
         ),
         bits(
             "DecisionEntry.flags",
             "DecisionEntry.flags",
-            vec![Code {
-                name: "partner",
-                value: DecisionEntry::FLAG_PARTNER,
-            }],
+            vec![
+                Code {
+                    name: "partner",
+                    value: DecisionEntry::FLAG_PARTNER,
+                },
+                Code {
+                    name: "residual",
+                    value: DecisionEntry::FLAG_RESIDUAL,
+                },
+            ],
         ),
     ]
 }

@@ -429,12 +429,20 @@ pub struct DecisionHeader {
     /// The matching method, zero-padded UTF-8 (e.g. "rigid").
     pub method: [u8; 16],
     pub schema_version: u32,
-    pub reserved: u32,
+    /// The median of the entries' residuals (see
+    /// [`DecisionEntry::residual`]); valid with
+    /// [`DecisionHeader::FLAG_RESIDUALS`]. Near 2.4 (the median of a
+    /// chi-squared with three degrees of freedom) when the stated errors
+    /// are honest and the motion right; far above, the motion leaves its
+    /// pairs further apart than the sensors say they err.
+    pub residual_median: f32,
 }
 
 impl DecisionHeader {
     /// The method estimated a rigid motion between the views.
     pub const FLAG_MOTION: u32 = 1;
+    /// At least one entry carries a residual: `residual_median` is valid.
+    pub const FLAG_RESIDUALS: u32 = 2;
 }
 
 impl Default for DecisionHeader {
@@ -455,7 +463,7 @@ impl Default for DecisionHeader {
             flags: 0,
             method: [0; 16],
             schema_version: SCHEMA_VERSION,
-            reserved: 0,
+            residual_median: 0.0,
         }
     }
 }
@@ -473,14 +481,22 @@ pub struct DecisionEntry {
     /// An [`AnswerStatus`]: `ok` (matched), `ambiguous` (below the
     /// threshold, with or without a partner) or `no_match`.
     pub status: u32,
-    /// Bits: [`DecisionEntry::FLAG_PARTNER`].
+    /// Bits: [`DecisionEntry::FLAG_PARTNER`], [`DecisionEntry::FLAG_RESIDUAL`].
     pub flags: u32,
-    pub reserved: u32,
+    /// The pair's squared residual under the decision's motion, in units
+    /// of the position errors both objects state (a squared Mahalanobis
+    /// length, three degrees of freedom); valid with
+    /// [`DecisionEntry::FLAG_RESIDUAL`]: a partner, a motion, and errors
+    /// stated on both sides. An `ok` answer's is at most the matcher's
+    /// `fit_limit`.
+    pub residual: f32,
 }
 
 impl DecisionEntry {
     /// The human object was given a robot partner.
     pub const FLAG_PARTNER: u32 = 1;
+    /// `residual` is valid.
+    pub const FLAG_RESIDUAL: u32 = 2;
 }
 
 #[cfg(test)]

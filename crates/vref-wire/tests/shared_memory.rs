@@ -202,7 +202,7 @@ fn a_decision_round_trips_through_its_service() {
             confidence: 0.9,
             status: AnswerStatus::Ok as u32,
             flags: DecisionEntry::FLAG_PARTNER,
-            reserved: 0,
+            residual: 0.0,
         })
         .collect();
     let mut header = DecisionHeader {

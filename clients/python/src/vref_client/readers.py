@@ -189,6 +189,11 @@ class DecisionPair:
     confidence: float
     #: ``ok`` (matched), ``ambiguous`` (below the threshold) or ``no_match``.
     status: str
+    #: The pair's squared residual under the decision's motion in units of
+    #: the position errors both objects state (three degrees of freedom;
+    #: an ``ok`` answer's is at most the matcher's ``fit_limit``); ``None``
+    #: without a partner, a motion or errors stated on both sides.
+    residual: float | None = None
 
 
 @dataclass(frozen=True)
@@ -210,6 +215,9 @@ class Decision:
     translation: np.ndarray | None
     method: str
     pairs: tuple[DecisionPair, ...]
+    #: The median of the pairs' residuals (about 2.4 when the stated errors
+    #: are honest and the motion right), ``None`` when no pair has one.
+    residual_median: float | None = None
 
     @staticmethod
     def read(header: wire.DecisionHeader, entries: np.ndarray) -> Decision:
@@ -224,15 +232,18 @@ class Decision:
             raise VrefError(f"decision counts {count} pairs but carries {len(entries)}")
         motion = bool(header.flags & wire.DECISION_HEADER_FLAGS["motion"])
         partner = wire.DECISION_ENTRY_FLAGS["partner"]
+        tested = wire.DECISION_ENTRY_FLAGS["residual"]
         pairs = tuple(
             DecisionPair(
                 human_track_id=int(e["human_track_id"]),
                 robot_track_id=int(e["robot_track_id"]) if int(e["flags"]) & partner else None,
                 confidence=float(e["confidence"]),
                 status=_STATUS_NAMES.get(int(e["status"]), "bad_request"),
+                residual=float(e["residual"]) if int(e["flags"]) & tested else None,
             )
             for e in entries[:count]
         )
+        residuals = bool(header.flags & wire.DECISION_HEADER_FLAGS["residuals"])
         method = bytes(header.method).split(b"\0", 1)[0].decode("utf-8", "replace")
         return Decision(
             robot_session=int(header.robot_session),
@@ -248,6 +259,7 @@ class Decision:
             translation=np.array(header.translation, np.float64) if motion else None,
             method=method,
             pairs=pairs,
+            residual_median=float(header.residual_median) if residuals else None,
         )
 
 

@@ -189,7 +189,7 @@ class DecisionHeader(ctypes.Structure):
         ("flags", _u32),
         ("method", _u8 * 16),
         ("schema_version", _u32),
-        ("reserved", _u32),
+        ("residual_median", _f32),
     ]
 
     @staticmethod
@@ -206,7 +206,7 @@ class DecisionEntry(ctypes.Structure):
         ("confidence", _f32),
         ("status", _u32),
         ("flags", _u32),
-        ("reserved", _u32),
+        ("residual", _f32),
     ]
 
     @staticmethod
@@ -289,9 +289,9 @@ SNAPSHOT_FLAGS: Final = {"up": 1}
 #: ``ReferenceAnswer.flags`` bits.
 ANSWER_FLAGS: Final = {"solved": 1, "human_position": 2, "human_position_from_motion": 4}
 #: ``DecisionHeader.flags`` bits.
-DECISION_HEADER_FLAGS: Final = {"motion": 1}
+DECISION_HEADER_FLAGS: Final = {"motion": 1, "residuals": 2}
 #: ``DecisionEntry.flags`` bits.
-DECISION_ENTRY_FLAGS: Final = {"partner": 1}
+DECISION_ENTRY_FLAGS: Final = {"partner": 1, "residual": 2}
 #: The matcher's reject reasons: the index of ``MatcherStats.rejected``.
 REJECT_REASONS: Final = {
     "schema_version": 0,
