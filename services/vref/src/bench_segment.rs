@@ -12,7 +12,7 @@ use vref_perception::{LabelImage, RgbdFrame, Segmentation, Segmenter, load_depth
 
 use crate::cli::BenchSegmentArgs;
 use crate::failure::{Blame, Failure};
-use crate::segment::{Images, load_camera, load_frame, natural_key, scene_dirs};
+use crate::segment::{Images, camera_of, load_camera, load_frame, natural_key, scene_dirs};
 use crate::stdout;
 
 /// One scene's result.
@@ -127,10 +127,10 @@ fn held_aside(name: &str) -> Option<bool> {
 
 pub fn segment(args: &BenchSegmentArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
-    let camera_path = args
-        .camera
-        .clone()
-        .unwrap_or_else(|| args.dataset.join("camera.json"));
+    let camera_path = match &args.camera {
+        Some(path) => path.clone(),
+        None => camera_of(&args.dataset).bad_input()?,
+    };
     let camera = load_camera(&camera_path).bad_input()?;
     let mut frames: Vec<(String, Images, Option<LabelImage>)> = Vec::new();
     for (name, dir) in scene_dirs(&args.dataset).bad_input()? {

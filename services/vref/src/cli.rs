@@ -82,7 +82,8 @@ pub enum Command {
     /// edges; docs/perception.md, "Segmenter") writes a 16-bit label PNG
     /// per frame (0 background, 1..n the objects). One frame (--rgb,
     /// --depth, --camera, --out FILE.png) or every scene folder of DIR in
-    /// the OSD layout (DIR/SCENE/{rgb,depth}.png, camera DIR/camera.json;
+    /// the OSD layout (DIR/SCENE/{rgb,depth}.png, camera DIR/camera.json
+    /// or DIR/../camera.json;
     /// --out a folder, written OUT/SCENE.png). A frame without a
     /// supporting plane gets an all-0 label image and its reason.
     Segment(SegmentArgs),
@@ -725,7 +726,8 @@ pub struct SegmentArgs {
     pub depth: Option<PathBuf>,
     /// Camera file: {"fx", "fy", "cx", "cy", "depth_scale_mm" (millimetres
     /// per depth unit, default 1), optional "width", "height"}. Default
-    /// with DIR: DIR/camera.json.
+    /// with DIR: DIR/camera.json, else DIR/../camera.json (OSD keeps it
+    /// beside learn/).
     #[arg(long, value_name = "FILE")]
     pub camera: Option<PathBuf>,
     /// The label PNG to write (one frame), or the folder to write
@@ -753,7 +755,7 @@ pub struct BenchSegmentArgs {
     /// them).
     #[arg(long, value_name = "DIR")]
     pub dataset: PathBuf,
-    /// Camera file (default: DIR/camera.json).
+    /// Camera file (default: DIR/camera.json, else DIR/../camera.json).
     #[arg(long, value_name = "FILE")]
     pub camera: Option<PathBuf>,
     /// Times each frame is segmented (timings over all of them).

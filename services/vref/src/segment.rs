@@ -76,6 +76,24 @@ pub fn load_camera(path: &Path) -> anyhow::Result<Camera> {
     })
 }
 
+/// The camera file of a folder of scenes: DIR/camera.json, else the one
+/// beside DIR (the OSD layout keeps it beside learn/ and test/).
+pub fn camera_of(dir: &Path) -> anyhow::Result<PathBuf> {
+    let inside = dir.join("camera.json");
+    let beside = dir.join("../camera.json");
+    [&inside, &beside]
+        .into_iter()
+        .find(|p| p.is_file())
+        .cloned()
+        .ok_or_else(|| {
+            anyhow!(
+                "no camera file: neither {} nor {} exists (give --camera)",
+                inside.display(),
+                beside.display()
+            )
+        })
+}
+
 /// One frame's decoded images, checked against each other and the camera.
 #[derive(Debug)]
 pub struct Images {
@@ -202,7 +220,7 @@ pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
     };
     let camera_path = match (&args.camera, &args.dir) {
         (Some(c), _) => c.clone(),
-        (None, Some(dir)) => dir.join("camera.json"),
+        (None, Some(dir)) => camera_of(dir).bad_input()?,
         (None, None) => return Err(anyhow!("--camera: give the camera file")).bad_input(),
     };
     let camera = load_camera(&camera_path).bad_input()?;
