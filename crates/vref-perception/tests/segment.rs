@@ -100,13 +100,13 @@ impl Scene {
                 // Ray in the world; t along it is the depth (d's z is 1).
                 let r = [0, 1, 2].map(|i| ax[i] * d[0] + ay[i] * d[1] + az[i] * d[2]);
                 let mut best = (f64::INFINITY, 0u16);
-                if let Some([x0, x1, y0, y1]) = self.table {
-                    if r[2] < 0.0 {
-                        let t = -self.eye[2] / r[2];
-                        let p = [self.eye[0] + t * r[0], self.eye[1] + t * r[1]];
-                        if (x0..x1).contains(&p[0]) && (y0..y1).contains(&p[1]) {
-                            best = (t, 1);
-                        }
+                if let Some([x0, x1, y0, y1]) = self.table
+                    && r[2] < 0.0
+                {
+                    let t = -self.eye[2] / r[2];
+                    let p = [self.eye[0] + t * r[0], self.eye[1] + t * r[1]];
+                    if (x0..x1).contains(&p[0]) && (y0..y1).contains(&p[1]) {
+                        best = (t, 1);
                     }
                 }
                 for (i, solid) in self.solids.iter().enumerate() {
@@ -117,7 +117,7 @@ impl Scene {
                     }
                 }
                 if best.0.is_finite() {
-                    let z = best.0 * (1.0 + 0.0) + self.noise * best.0 * best.0 * hash(u, v);
+                    let z = best.0 + self.noise * best.0 * best.0 * hash(u, v);
                     depth.put_pixel(u, v, Luma([(z * 1000.0).round() as u16]));
                     truth[(v * W + u) as usize] = best.1;
                 }

@@ -150,7 +150,7 @@ pub fn scene_dirs(dir: &Path) -> anyhow::Result<Vec<(String, PathBuf)>> {
             dir.display()
         );
     }
-    scenes.sort_by(|a, b| natural_key(&a.0).cmp(&natural_key(&b.0)));
+    scenes.sort_by_key(|a| natural_key(&a.0));
     Ok(scenes)
 }
 

@@ -123,8 +123,8 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
     // pixel goes to the segment nearest along the surface.
     queue.clear();
     steps.fill(0);
-    for i in 0..pixels {
-        if labels[i] != 0 {
+    for (i, &l) in labels.iter().enumerate() {
+        if l != 0 {
             queue.push(i as u32);
         }
     }

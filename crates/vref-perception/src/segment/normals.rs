@@ -169,7 +169,7 @@ pub(crate) fn normals(
             };
             let n = cross(dx, dy);
             let length = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            if !(length > 0.0) {
+            if length.is_nan() || length <= 0.0 {
                 continue;
             }
             // x right, y down: dx x dy points away from the camera.

@@ -40,7 +40,7 @@ impl SplitMix {
     /// Uniform in `0..n` (`n` > 0); the multiply-shift bias is below
     /// 2^-32 for the sizes used here.
     pub(crate) fn below(&mut self, n: usize) -> usize {
-        ((self.next() >> 32) * n as u64 >> 32) as usize
+        (((self.next() >> 32) * n as u64) >> 32) as usize
     }
 }
 
@@ -71,7 +71,8 @@ pub(crate) fn fit(samples: &[Sample], iterations: u32, seed: u64) -> Option<Plan
         let length = dot(normal, normal).sqrt();
         // Nearly collinear points give a normal of noise.
         let span = dot(sub(b, a), sub(b, a)).max(dot(sub(c, a), sub(c, a)));
-        if !(length > 1e-3 * span) || length == 0.0 {
+        // (NaN from overflowing coordinates fails the test too.)
+        if length.is_nan() || length <= 1e-3 * span || length == 0.0 {
             continue;
         }
         let normal = normal.map(|x| x / length);
@@ -166,13 +167,13 @@ fn smallest_eigenvector(mut a: [[f64; 3]; 3]) -> Option<[f64; 3]> {
             let t = if theta == 0.0 { 1.0 } else { t };
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
+            for row in &mut a {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
             }
-            for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
+            let (row_p, row_q) = (a[p], a[q]);
+            for (k, (apk, aqk)) in row_p.into_iter().zip(row_q).enumerate() {
                 a[p][k] = c * apk - s * aqk;
                 a[q][k] = s * apk + c * aqk;
             }

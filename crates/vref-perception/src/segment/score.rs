@@ -330,12 +330,12 @@ pub fn assign(f: &[f64], rows: usize, cols: usize) -> Vec<(usize, usize)> {
         }
     }
     let mut pairs = Vec::new();
-    for j in 1..=m {
-        if p[j] != 0 {
+    for (j, &row) in p.iter().enumerate().skip(1) {
+        if row != 0 {
             let (r, c) = if transposed {
-                (j - 1, p[j] - 1)
+                (j - 1, row - 1)
             } else {
-                (p[j] - 1, j - 1)
+                (row - 1, j - 1)
             };
             if f[r * cols + c] > 0.0 {
                 pairs.push((r, c));

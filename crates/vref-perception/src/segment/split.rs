@@ -58,7 +58,10 @@ pub(crate) fn cuts(input: &CutInput<'_>, rule: CutRule, candidate: &[bool], cut:
         // Across a large depth jump the two normals belong to unrelated
         // surfaces; the jump test cuts there.
         let step = (smooth[j] - smooth[i]).abs();
-        if !(length > 0.0) || step > rule.jump_ratio * smooth[i].min(smooth[j]) * (2 * s) as f32 {
+        if length.is_nan()
+            || length <= 0.0
+            || step > rule.jump_ratio * smooth[i].min(smooth[j]) * (2 * s) as f32
+        {
             return 0.0;
         }
         ((b[0] - a[0]) * d[0] + (b[1] - a[1]) * d[1] + (b[2] - a[2]) * d[2]) / length
