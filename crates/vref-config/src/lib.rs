@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 use vref_match::{MatchError, Params};
-use vref_perception::{PerceptionSettings, SettingsError};
+use vref_perception::{PerceptionSettings, SegmentationSettings, SettingsError};
 use vref_reference::MatcherSettings;
 use vref_scene::Limits;
 use vref_wire::ipc::IpcSettings;
@@ -46,6 +46,12 @@ pub enum ConfigError {
         #[source]
         source: SettingsError,
     },
+    #[error("{path}: [segmentation]")]
+    Segmentation {
+        path: PathBuf,
+        #[source]
+        source: SettingsError,
+    },
     #[error("{path}: [scene] {message}")]
     Scene { path: PathBuf, message: String },
     #[error("{path}: [{section}] {message}")]
@@ -66,6 +72,7 @@ pub struct Config {
     pub ipc: IpcSettings,
     pub feeds: FeedSettings,
     pub perception: PerceptionSettings,
+    pub segmentation: SegmentationSettings,
     pub bridge: BridgeSettings,
 }
 
@@ -176,6 +183,12 @@ impl Config {
         self.perception
             .validate()
             .map_err(|source| ConfigError::Perception {
+                path: path.to_owned(),
+                source,
+            })?;
+        self.segmentation
+            .validate()
+            .map_err(|source| ConfigError::Segmentation {
                 path: path.to_owned(),
                 source,
             })?;

@@ -94,6 +94,22 @@ fn bad_values_are_errors_naming_the_parameter() {
         ),
         ("[perception]\nmin_pixels = 0\n", "perception.min_pixels"),
         (
+            "[segmentation]\nmin_pixels = 0\n",
+            "segmentation.min_pixels",
+        ),
+        (
+            "[segmentation]\njump_ratio = -0.1\n",
+            "segmentation.jump_ratio",
+        ),
+        (
+            "[segmentation]\ngrow_height_m = 0.02\n",
+            "segmentation.grow_height_m",
+        ),
+        (
+            "[segmentation]\nmin_plane_share = 1.5\n",
+            "segmentation.min_plane_share",
+        ),
+        (
             "[perception]\ncentre_offset = -1.0\n",
             "perception.centre_offset",
         ),

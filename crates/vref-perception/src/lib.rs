@@ -39,6 +39,7 @@ mod intrinsics;
 mod load;
 mod noise;
 mod outline;
+pub mod segment;
 mod settings;
 
 pub use error::{FrameError, LoadError, SettingsError};
@@ -49,4 +50,8 @@ pub use intrinsics::Intrinsics;
 pub use load::{load_colour, load_depth, load_mask};
 pub use noise::{CameraNoise, DepthLaw};
 pub use outline::{outline_polygons, signed_area};
+pub use segment::{
+    LabelImage, NoSupport, Plane, RgbdFrame, SegmentError, Segmentation, SegmentationSettings,
+    Segmenter,
+};
 pub use settings::{FrontEndSettings, PerceptionSettings};

@@ -77,6 +77,16 @@ pub enum Command {
     /// Publish one kind of malformed message into the running services
     /// (fault injection); an unknown kind lists the kinds.
     Inject(crate::inject::InjectArgs),
+    /// Segment RGB-D frames into objects without masks: the class-agnostic
+    /// segmenter (supporting plane, depth jumps, concave creases, colour
+    /// edges; docs/perception.md, "Segmenter") writes a 16-bit label PNG
+    /// per frame (0 background, 1..n the objects). One frame (--rgb,
+    /// --depth, --camera, --out FILE.png) or every scene folder of DIR in
+    /// the OSD layout (DIR/SCENE/{rgb,depth}.png, camera DIR/camera.json
+    /// or DIR/../camera.json;
+    /// --out a folder, written OUT/SCENE.png). A frame without a
+    /// supporting plane gets an all-0 label image and its reason.
+    Segment(SegmentArgs),
     /// Benchmarks that print percentiles (never pass/fail).
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -649,6 +659,14 @@ pub enum BenchCommand {
     /// times): median and p99 of the front end alone, and of decoding one
     /// image's files (colour, depth, every mask) apart.
     Perception(BenchPerceptionArgs),
+    /// Time the segmenter per frame on a folder of scene folders (OSD
+    /// layout), single thread, images decoded beforehand: median and p99
+    /// over --repeats passes; where a scene has a ground-truth label.png,
+    /// score it by ../shared/data/osd/PROVENANCE.md's protocol (Hungarian
+    /// pairing on Dice; overlap and boundary P/R/F, %75), averaged over
+    /// scenes, overall and per group (OSD learn scene kinds, and the
+    /// held-aside scenes whose number is 0 mod 5 against the rest).
+    Segment(BenchSegmentArgs),
     /// The echo server of `vref bench query` (started by it): answers
     /// every reference query at once, under the namespace
     /// `<[ipc] namespace>/bench-echo`.
@@ -688,6 +706,74 @@ pub struct BenchQueryArgs {
     /// Configuration file ([matcher] method, [feeds] rates and preset);
     /// the services run under their own iceoryx2 root path and prefix
     /// whatever its [ipc] says.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["dir", "rgb"])))]
+pub struct SegmentArgs {
+    /// A folder of scene folders (OSD layout: SCENE/rgb.png,
+    /// SCENE/depth.png; camera.json beside them).
+    #[arg(value_name = "DIR", conflicts_with_all = ["rgb", "depth"])]
+    pub dir: Option<PathBuf>,
+    /// One frame's colour image (8-bit RGB).
+    #[arg(long, value_name = "FILE", requires_all = ["depth", "camera"])]
+    pub rgb: Option<PathBuf>,
+    /// One frame's depth image (16-bit grey, registered to the colour
+    /// image, 0 = no reading).
+    #[arg(long, value_name = "FILE", requires = "rgb")]
+    pub depth: Option<PathBuf>,
+    /// Camera file: {"fx", "fy", "cx", "cy", "depth_scale_mm" (millimetres
+    /// per depth unit, default 1), optional "width", "height"}. Default
+    /// with DIR: DIR/camera.json, else DIR/../camera.json (OSD keeps it
+    /// beside learn/).
+    #[arg(long, value_name = "FILE")]
+    pub camera: Option<PathBuf>,
+    /// The label PNG to write (one frame), or the folder to write
+    /// SCENE.png into (DIR; created if missing).
+    #[arg(long, value_name = "PATH")]
+    pub out: PathBuf,
+    /// Also draw the labels over the colour image: a PNG (one frame) or a
+    /// folder of SCENE.png (DIR).
+    #[arg(long, value_name = "PATH")]
+    pub overlay: Option<PathBuf>,
+    /// Print one JSON object per frame (scene, objects, no_support, out).
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file (its [segmentation] section; default:
+    /// $VREF_CONFIG, else config/vref.toml if present, else built-in
+    /// defaults).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchSegmentArgs {
+    /// A folder of scene folders (OSD layout: SCENE/rgb.png,
+    /// SCENE/depth.png, optional SCENE/label.png; camera.json beside
+    /// them).
+    #[arg(long, value_name = "DIR")]
+    pub dataset: PathBuf,
+    /// Camera file (default: DIR/camera.json, else DIR/../camera.json).
+    #[arg(long, value_name = "FILE")]
+    pub camera: Option<PathBuf>,
+    /// Times each frame is segmented (timings over all of them).
+    #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..))]
+    pub repeats: u64,
+    /// Ground-truth labels at or above this are objects (OSD: 20; below
+    /// are the table and no reading).
+    #[arg(long, value_name = "L", default_value_t = 20)]
+    pub first_object: u16,
+    /// Print one JSON object per line: with --scenes each scene's scores,
+    /// then the summary ({"images", "median_us", "p99_us", "overlap_f",
+    /// "boundary_f", "p75", ..., "groups": [...]}).
+    #[arg(long)]
+    pub json: bool,
+    /// Also print each scene's scores.
+    #[arg(long)]
+    pub scenes: bool,
+    /// Configuration file (its [segmentation] section).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
 }

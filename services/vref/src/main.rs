@@ -11,6 +11,7 @@ mod bench_perception;
 mod bench_plot;
 mod bench_query;
 mod bench_remote;
+mod bench_segment;
 mod cli;
 mod config_cmd;
 mod demo;
@@ -23,6 +24,7 @@ mod progress;
 mod query;
 mod record;
 mod scenes;
+mod segment;
 mod soak;
 mod stdout;
 mod sweep;
@@ -56,11 +58,13 @@ fn main() -> ExitCode {
         Command::Inject(args) => inject::run(&args),
         Command::Demo(args) => demo::run(&args),
         Command::Soak(args) => soak::run(&args),
+        Command::Segment(args) => segment::run(&args),
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
         Command::Bench(BenchCommand::Remote(args)) => bench_remote::remote(&args),
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
         Command::Bench(BenchCommand::Perception(args)) => bench_perception::perception(&args),
+        Command::Bench(BenchCommand::Segment(args)) => bench_segment::segment(&args),
         Command::Bench(BenchCommand::Client(args)) => bench_client::run(&args),
         Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
         Command::WireLayout(args) => wire_layout::run(&args),

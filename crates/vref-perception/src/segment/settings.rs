@@ -1,0 +1,180 @@
+//! The `[segmentation]` settings: how the class-agnostic segmenter finds
+//! the supporting plane and splits what stands on it.
+
+use serde::{Deserialize, Serialize};
+
+use crate::SettingsError;
+
+/// The segmenter's constants (the `[segmentation]` table of vref.toml).
+/// Lengths are metres; a length "at 1 m" grows with the square of the
+/// depth, as a structured-light or stereo camera's depth noise does.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SegmentationSettings {
+    /// The plane is fitted to every `plane_stride`-th pixel of every
+    /// `plane_stride`-th row.
+    pub plane_stride: u32,
+    /// RANSAC hypotheses (three sampled points each).
+    pub plane_iterations: u32,
+    /// Seed of the RANSAC sampler: the same frame and seed give the same
+    /// labels.
+    pub plane_seed: u64,
+    /// A reading belongs to the plane within this distance of it, at 1 m.
+    pub plane_tolerance_m: f64,
+    /// The plane must hold at least this share of the sampled readings,
+    /// else the frame has no supporting plane.
+    pub min_plane_share: f64,
+    /// Without an up vector: the plane must be tilted at least this much
+    /// (degrees) against the image plane, else it is a wall or a lid seen
+    /// face on. A camera looking straight down at its table sets 0.
+    pub min_plane_tilt_deg: f64,
+    /// With an up vector: the plane's normal must be within this many
+    /// degrees of it.
+    pub max_up_angle_deg: f64,
+    /// A reading this far above the plane (or `plane_tolerance_m` at its
+    /// depth, whichever is more) starts an object.
+    pub min_height_m: f64,
+    /// Objects grow back down to readings this far above the plane.
+    pub grow_height_m: f64,
+    /// Neighbouring readings whose depths differ by more than this share
+    /// of their depth lie on different surfaces.
+    pub jump_ratio: f64,
+    /// Half width (pixels) of the box filter that smooths depth before
+    /// normals are taken.
+    pub smooth_radius: u32,
+    /// Normals are taken from smoothed points this many pixels apart.
+    pub normal_step: u32,
+    /// Concave crease: normals `crease_step` pixels either side of a pixel
+    /// that turn towards each other by more than this (the change of the
+    /// unit normal along the unit direction between them; 0.4 is about
+    /// 23 degrees) cut it.
+    pub crease: f64,
+    /// Pixels either side of a pixel whose normals the crease test
+    /// compares.
+    pub crease_step: u32,
+    /// Where the geometry is unsure (a crease of at least `weak_crease`,
+    /// or a depth step of at least half `jump_ratio`), a colour edge this
+    /// strong cuts too: the mean absolute difference of the R, G, B values
+    /// of the pixels either side.
+    pub colour_edge: f64,
+    /// A crease this strong is weak evidence for `colour_edge` to confirm.
+    pub weak_crease: f64,
+    /// Segments with fewer pixels are dropped.
+    pub min_pixels: u32,
+    /// Cut pixels are given back to the neighbouring segment across at
+    /// most this many pixels.
+    pub grow_steps: u32,
+}
+
+impl Default for SegmentationSettings {
+    fn default() -> Self {
+        Self {
+            plane_stride: 4,
+            plane_iterations: 200,
+            plane_seed: 1,
+            plane_tolerance_m: 0.01,
+            min_plane_share: 0.2,
+            min_plane_tilt_deg: 10.0,
+            max_up_angle_deg: 30.0,
+            min_height_m: 0.007,
+            grow_height_m: 0.003,
+            jump_ratio: 0.02,
+            smooth_radius: 1,
+            normal_step: 3,
+            crease: 0.4,
+            crease_step: 4,
+            colour_edge: 40.0,
+            weak_crease: 0.2,
+            min_pixels: 200,
+            grow_steps: 8,
+        }
+    }
+}
+
+impl SegmentationSettings {
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let bad = |name, value: f64, expected| {
+            Err(SettingsError::Bad {
+                name,
+                value,
+                expected,
+            })
+        };
+        let counts = [
+            ("segmentation.plane_stride", self.plane_stride, 1, 64),
+            (
+                "segmentation.plane_iterations",
+                self.plane_iterations,
+                1,
+                100_000,
+            ),
+            ("segmentation.smooth_radius", self.smooth_radius, 0, 32),
+            ("segmentation.normal_step", self.normal_step, 1, 32),
+            ("segmentation.crease_step", self.crease_step, 1, 32),
+            ("segmentation.min_pixels", self.min_pixels, 1, u32::MAX),
+            ("segmentation.grow_steps", self.grow_steps, 0, 255),
+        ];
+        for (name, value, low, high) in counts {
+            if !(low..=high).contains(&value) {
+                let expected = match name {
+                    "segmentation.plane_stride" => "in 1..=64",
+                    "segmentation.plane_iterations" => "in 1..=100000",
+                    "segmentation.min_pixels" => "at least 1",
+                    "segmentation.grow_steps" => "in 0..=255",
+                    "segmentation.smooth_radius" => "in 0..=32",
+                    _ => "in 1..=32",
+                };
+                return bad(name, f64::from(value), expected);
+            }
+        }
+        let positive = [
+            ("segmentation.plane_tolerance_m", self.plane_tolerance_m),
+            ("segmentation.min_height_m", self.min_height_m),
+            ("segmentation.jump_ratio", self.jump_ratio),
+            ("segmentation.crease", self.crease),
+            ("segmentation.weak_crease", self.weak_crease),
+            ("segmentation.colour_edge", self.colour_edge),
+        ];
+        for (name, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return bad(name, value, "positive and finite");
+            }
+        }
+        if !(self.grow_height_m.is_finite()
+            && self.grow_height_m >= 0.0
+            && self.grow_height_m <= self.min_height_m)
+        {
+            return bad(
+                "segmentation.grow_height_m",
+                self.grow_height_m,
+                "in [0, min_height_m]",
+            );
+        }
+        if self.weak_crease > self.crease {
+            return bad(
+                "segmentation.weak_crease",
+                self.weak_crease,
+                "at most crease",
+            );
+        }
+        if !(self.min_plane_share.is_finite()
+            && self.min_plane_share > 0.0
+            && self.min_plane_share <= 1.0)
+        {
+            return bad(
+                "segmentation.min_plane_share",
+                self.min_plane_share,
+                "in (0, 1]",
+            );
+        }
+        for (name, value) in [
+            ("segmentation.min_plane_tilt_deg", self.min_plane_tilt_deg),
+            ("segmentation.max_up_angle_deg", self.max_up_angle_deg),
+        ] {
+            if !(value.is_finite() && (0.0..=90.0).contains(&value)) {
+                return bad(name, value, "in [0, 90] degrees");
+            }
+        }
+        Ok(())
+    }
+}

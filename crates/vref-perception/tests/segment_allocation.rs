@@ -1,0 +1,43 @@
+//! The segmenter makes no heap allocation per frame once its buffers have
+//! grown to the frame: a counting allocator checks it on a real frame.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::PathBuf;
+
+use vref_perception::*;
+
+#[global_allocator]
+static ALLOCATOR: vref_alloc_count::Counting = vref_alloc_count::Counting;
+
+#[test]
+fn frames_after_the_first_allocate_nothing() {
+    let scene =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/osd/learn/learn21");
+    assert!(
+        scene.is_dir(),
+        "the OSD data set is missing: {}",
+        scene.display()
+    );
+    let colour = load_colour(&scene.join("rgb.png")).unwrap();
+    let depth = DepthImage::new(load_depth(&scene.join("depth.png")).unwrap(), 0.001).unwrap();
+    let frame = RgbdFrame {
+        colour: &colour,
+        depth: &depth,
+        intrinsics: Intrinsics::new(525.0, 525.0, 319.5, 239.5).unwrap(),
+        up: None,
+    };
+    let mut segmenter = Segmenter::new(SegmentationSettings::default());
+    let mut labels = LabelImage::new(1, 1);
+    let (first, growing) =
+        vref_alloc_count::allocations_in(|| segmenter.segment(&frame, &mut labels));
+    assert!(first.unwrap().objects() > 0);
+    assert!(growing > 0, "the first frame grows the buffers");
+    let capacity = segmenter.buffer_capacity();
+    for _ in 0..3 {
+        let (result, count) =
+            vref_alloc_count::allocations_in(|| segmenter.segment(&frame, &mut labels));
+        result.unwrap();
+        assert_eq!(count, 0, "a frame after the first allocated");
+    }
+    assert_eq!(segmenter.buffer_capacity(), capacity);
+}
