@@ -255,14 +255,15 @@ OBJECT_ENTRY_DTYPE: Final = np.dtype(
 #: ``DecisionEntry`` as a numpy structured dtype, to read a decision's slice.
 DECISION_ENTRY_DTYPE: Final = np.dtype(
     {
-        "names": ["human_track_id", "robot_track_id", "confidence", "status", "flags"],
-        "formats": ["<u8", "<u8", "<f4", "<u4", "<u4"],
+        "names": ["human_track_id", "robot_track_id", "confidence", "status", "flags", "residual"],
+        "formats": ["<u8", "<u8", "<f4", "<u4", "<u4", "<f4"],
         "offsets": [
             DecisionEntry.human_track_id.offset,
             DecisionEntry.robot_track_id.offset,
             DecisionEntry.confidence.offset,
             DecisionEntry.status.offset,
             DecisionEntry.flags.offset,
+            DecisionEntry.residual.offset,
         ],
         "itemsize": ctypes.sizeof(DecisionEntry),
     }
