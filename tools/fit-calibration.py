@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Fits the `rigid` method's confidence calibration on training files.
 
-    python3 tools/fit-calibration.py [--settings FILE] [--vref target/release/vref] TRAIN.jsonl...
+    python3 tools/fit-calibration.py [--settings FILE] [--vref target/release/vref] [--positions] TRAIN.jsonl...
 
 Runs `vref eval --method rigid --answers` on every file with the
 calibration switched to the identity (bias 0, slope 1, other terms 0), so
@@ -17,7 +17,12 @@ method on the log loss, every file weighing the same (a file of many
 answers does not outweigh a family of few). It prints the
 `[matching.rigid.calibration]` constants, which go into
 crates/vref-match/src/calibration.rs (the defaults) and config/vref.toml,
-and each file's training ECE. Only training files may be given: the
+and each file's training ECE, beside its sampling floor: the mean ECE of
+perfectly calibrated answers at the same confidences (200 draws of right
+or wrong, each right with its confidence), which no map can go below.
+With `--positions` every feature is removed from the files first: the map
+fitted to answers that rest on positions alone (docs/method.md, "When an
+answer is ok"). Only training files may be given: the
 figures of docs/method.md come from others (tools/carryover-data.sh lists
 which are which).
 """
@@ -25,6 +30,7 @@ import argparse
 import json
 import math
 import os
+import random
 import subprocess
 import sys
 import tempfile
@@ -47,6 +53,19 @@ def features(row):
     g = CAP if g is None else max(-CAP, min(CAP, g))
     none = 0.0 if row["matched"] else 1.0
     return (1.0, logit(row["confidence"]), none, (1 - none) * g, none * g)
+
+
+def without_features(path, work):
+    """A copy of dataset file `path` with every object's feature removed."""
+    out = os.path.join(work, "positions-" + os.path.basename(path))
+    with open(path) as f, open(out, "w") as g:
+        for line in f:
+            pair = json.loads(line)
+            for side in ("robot", "human"):
+                for o in pair[side]["objects"]:
+                    o.pop("feature", None)
+            g.write(json.dumps(pair) + "\n")
+    return out
 
 
 def answers(vref, path, config, work):
@@ -103,6 +122,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--settings", help="a file of further [matching.rigid] lines")
     parser.add_argument("--vref", default="target/release/vref")
+    parser.add_argument("--positions", action="store_true",
+                        help="fit the map for views without telling appearance")
     parser.add_argument("files", nargs="+")
     args = parser.parse_args()
     settings = open(args.settings).read() if args.settings else ""
@@ -112,8 +133,9 @@ def main():
             f.write("[matching.rigid]\n" + settings + "\n[matching.rigid.calibration]\n"
                     "bias = 0.0\nslope = 1.0\nno_partner_shift = 0.0\n"
                     "partner_margin = 0.0\nnone_margin = 0.0\n")
+        files = [without_features(p, work) for p in args.files] if args.positions else args.files
         with ThreadPoolExecutor(max_workers=2) as pool:
-            per_file = list(pool.map(lambda p: answers(args.vref, p, config, work), args.files))
+            per_file = list(pool.map(lambda p: answers(args.vref, p, config, work), files))
     rows, weights = [], []
     for file_rows in per_file:
         rows += file_rows
@@ -126,7 +148,16 @@ def main():
     for path, file_rows in zip(args.files, per_file):
         pairs = [(probability(w, r), r["correct"]) for r in file_rows]
         print(f"# {os.path.basename(path)}: {len(file_rows)} answers, training ECE "
-              f"{ece(pairs):.3f}", file=sys.stderr)
+              f"{ece(pairs):.3f} (sampling floor {floor([p for p, _ in pairs]):.3f})",
+              file=sys.stderr)
+
+
+def floor(confidences, draws=200):
+    """The mean ECE of answers right exactly as often as their confidence
+    says, at these confidences: what a file of this size shows by chance."""
+    rng = random.Random(1)
+    return sum(ece([(c, rng.random() < c) for c in confidences])
+               for _ in range(draws)) / draws
 
 
 if __name__ == "__main__":
