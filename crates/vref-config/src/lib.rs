@@ -88,6 +88,10 @@ pub struct FeedSettings {
     pub preset: String,
     /// Seed of the synthetic world; both feeds must use the same.
     pub seed: u64,
+    /// Whether the synthetic world's snapshots carry their camera's up
+    /// vector (exact: the world's vertical in the camera frame), as a
+    /// headset's gravity-aligned frame and a robot's known mounting give.
+    pub up_vectors: bool,
 }
 
 impl Default for FeedSettings {
@@ -97,6 +101,7 @@ impl Default for FeedSettings {
             gesture_rate_hz: 2.0,
             preset: "moi".to_owned(),
             seed: 1,
+            up_vectors: true,
         }
     }
 }

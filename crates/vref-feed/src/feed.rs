@@ -79,7 +79,8 @@ impl Feed {
                     args.epoch_ns
                 );
                 let synthetic =
-                    Synthetic::new(world, side, args.epoch_ns, rate_hz, gesture_rate_hz);
+                    Synthetic::new(world, side, args.epoch_ns, rate_hz, gesture_rate_hz)
+                        .with_up_vectors(feeds.up_vectors);
                 (Source::Synthetic(Box::new(synthetic)), description)
             }
             SourceSpec::Dataset(path) => {

@@ -65,6 +65,8 @@ pub(crate) struct Synthetic {
     snapshots: Ticker,
     gestures: Option<Ticker>,
     feature_dim: usize,
+    /// Whether snapshots carry the camera's up vector.
+    up_vectors: bool,
     /// Reused for every frame.
     entries: Vec<ObjectEntry>,
 }
@@ -85,8 +87,16 @@ impl Synthetic {
             snapshots: Ticker::new(epoch_ns, rate_hz),
             gestures: gesture_rate_hz.map(|rate| Ticker::new(epoch_ns, rate)),
             feature_dim,
+            up_vectors: false,
             entries,
         }
+    }
+
+    /// Snapshots carry their camera's up vector: the world's vertical in
+    /// the camera frame at the snapshot's moment.
+    pub(crate) fn with_up_vectors(mut self, up_vectors: bool) -> Self {
+        self.up_vectors = up_vectors;
+        self
     }
 
     pub(crate) fn next(&mut self, now_ns: u64) -> Result<Due<'_>, RunError> {
@@ -133,13 +143,16 @@ impl Synthetic {
                 .world
                 .observe(self.side, snapshot.t, snapshot.index as u64);
             view_entries(&view, &mut self.entries)?;
+            let up = self.up_vectors.then(|| {
+                let up = view.camera.direction_to_camera(&nalgebra::Vector3::z());
+                [up.x as f32, up.y as f32, up.z as f32]
+            });
             return Ok(Due {
                 at_ns: snapshot.at_ns,
                 publication: Publication::Snapshot {
                     feature_dim: self.feature_dim,
                     entries: &self.entries,
-                    // A live view says nothing of gravity (yet).
-                    up: None,
+                    up,
                 },
             });
         }

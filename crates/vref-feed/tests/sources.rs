@@ -100,13 +100,23 @@ fn synthetic_snapshots_follow_the_rate_and_match_the_world() {
     let world = LiveWorld::new(Preset::Moi.config(), Dynamics::default(), 1, None).unwrap();
     let period = SECOND as f64 / 30.0;
     for (at, what) in &published {
-        let Owned::Snapshot(dim, entries, _) = what else {
+        let Owned::Snapshot(dim, entries, up) = what else {
             panic!("the perception feed pointed");
         };
         // Ticks are aligned to the epoch (0) and numbered from it.
         let tick = (*at as f64 / period).round();
         assert!((*at as f64 - tick * period).abs() < 1000.0);
         let view = world.observe(Side::Robot, tick / 30.0, tick as u64);
+        // The world's vertical (+z) in the camera frame, as configured by
+        // default ([feeds] up_vectors).
+        let vertical = view.camera.direction_to_camera(&nalgebra::Vector3::z());
+        let up = up.expect("the synthetic world states which way is up");
+        for k in 0..3 {
+            assert!(
+                (f64::from(up[k]) - vertical[k]).abs() < 1e-6,
+                "{up:?} {vertical:?}"
+            );
+        }
         assert_eq!(*dim, world.config().features.dim());
         assert_eq!(entries.len(), view.objects.len());
         for (e, o) in entries.iter().zip(&view.objects) {
