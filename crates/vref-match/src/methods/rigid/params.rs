@@ -111,7 +111,9 @@ pub struct RigidParams {
     /// precision 0 and tells the robot nothing.
     pub never_empty: bool,
     /// Refuse motions that put the two cameras on opposite sides of the
-    /// plane the objects stand on (see `Side`).
+    /// plane the objects stand on, and, where one view alone knows which
+    /// way is up, the other camera clearly beneath the objects (see
+    /// `Side`).
     pub same_side: bool,
     /// Hypotheses drawn to measure how many pairs a motion explains by
     /// chance in the scene; a partner is only as sure as the best motion is

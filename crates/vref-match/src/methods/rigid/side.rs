@@ -19,6 +19,31 @@ pub(super) struct Side {
     /// A point of the plane, its normal towards the robot camera, and how
     /// far off the plane a camera must be to count as clearly off it.
     plane: Option<(Point3<f64>, nalgebra::Vector3<f64>, f64)>,
+    /// Where one view alone knows which way is up: that view's up, the
+    /// height of its lowest object along it, and how far below it the
+    /// other camera may stand (see [`Above`]).
+    above: Option<Above>,
+}
+
+/// One known up vector: a person's head and a robot's camera look at the
+/// objects on a table or floor from above them, or at most from their
+/// height, never from clearly beneath the lowest of them. A motion that
+/// puts the other view's camera there turns the scene over, and is
+/// refused. (With both known no motion can turn it over.)
+struct Above {
+    /// The view that knows its up, whose frame the test is made in.
+    known: Known,
+    up: nalgebra::Vector3<f64>,
+    lowest: f64,
+    /// The view's median spacing between nearest neighbours: the camera
+    /// may stand this far below its lowest object (a crouching person).
+    slack: f64,
+}
+
+#[derive(Clone, Copy)]
+enum Known {
+    Robot,
+    Human,
 }
 
 impl Side {
@@ -31,13 +56,27 @@ impl Side {
     /// over ([`Problem::fit_motion`]).
     pub(super) fn of(problem: &Problem) -> Self {
         if problem.gravity().is_some() {
-            return Self { plane: None };
+            return Self {
+                plane: None,
+                above: None,
+            };
         }
-        Self::of_points(&problem.robot_positions)
+        let above = match (problem.human_up, problem.robot_up) {
+            (None, Some(up)) => Above::of(Known::Robot, up, &problem.robot_positions),
+            (Some(up), None) => Above::of(Known::Human, up, &problem.human_positions),
+            _ => None,
+        };
+        Self {
+            above,
+            ..Self::of_points(&problem.robot_positions)
+        }
     }
 
     fn of_points(points: &[Point3<f64>]) -> Self {
-        let none = Self { plane: None };
+        let none = Self {
+            plane: None,
+            above: None,
+        };
         if points.len() < 3 {
             return none;
         }
@@ -68,14 +107,85 @@ impl Side {
         }
         Self {
             plane: Some((Point3::from(c), normal, clear)),
+            above: None,
         }
     }
 
     /// Whether `motion` leaves the human camera (its origin) on the robot
-    /// camera's side of the plane, or near the plane.
+    /// camera's side of the plane, or near the plane; and, where one view
+    /// knows which way is up, the other camera not clearly below the
+    /// objects.
     pub(super) fn allows(&self, motion: &RigidMotion) -> bool {
         self.plane.is_none_or(|(c, normal, clear)| {
             normal.dot(&(motion.apply(&Point3::origin()) - c)) >= -clear
+        }) && self.above.as_ref().is_none_or(|a| a.allows(motion))
+    }
+}
+
+impl Above {
+    fn of(known: Known, up: nalgebra::Vector3<f64>, points: &[Point3<f64>]) -> Option<Self> {
+        let lowest = points
+            .iter()
+            .map(|p| up.dot(&p.coords))
+            .fold(f64::INFINITY, f64::min);
+        let slack = crate::rigid::median_spacing(points)?;
+        (lowest.is_finite() && slack.is_finite()).then_some(Self {
+            known,
+            up,
+            lowest,
+            slack,
         })
+    }
+
+    /// Whether the other camera, in the known view's frame under
+    /// `motion`, stands no more than `slack` below the lowest object.
+    fn allows(&self, motion: &RigidMotion) -> bool {
+        let camera = match self.known {
+            Known::Robot => motion.apply(&Point3::origin()),
+            Known::Human => motion.inverse().apply(&Point3::origin()),
+        };
+        self.up.dot(&camera.coords) >= self.lowest - self.slack
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use nalgebra::{Matrix3, Point3, Vector3};
+
+    use super::{Above, Known};
+    use crate::rigid::RigidMotion;
+
+    /// Objects on a table 1 m in front of the camera, up = -y (OpenCV).
+    fn table() -> Vec<Point3<f64>> {
+        (0..6)
+            .map(|k| Point3::new(-0.25 + 0.1 * k as f64, 0.3, 0.8 + 0.05 * (k % 3) as f64))
+            .collect()
+    }
+
+    fn at(translation: [f64; 3]) -> RigidMotion {
+        RigidMotion {
+            rotation: Matrix3::identity(),
+            translation: Vector3::from(translation),
+        }
+    }
+
+    /// With the robot's up known, the human camera above the table, or at
+    /// its height, is allowed; clearly beneath it is not. With the human's
+    /// known, the same for the robot camera seen from the human frame.
+    #[test]
+    fn one_known_up_keeps_the_other_camera_from_beneath_the_objects() {
+        let up = Vector3::new(0.0, -1.0, 0.0);
+        let robot = Above::of(Known::Robot, up, &table()).unwrap();
+        // The human camera 0.5 m above the camera's height, at the table's
+        // height (y = 0.3), and 0.5 m below the table (y = 0.8).
+        assert!(robot.allows(&at([0.0, -0.5, 0.0])));
+        assert!(robot.allows(&at([0.3, 0.3, 1.6])));
+        assert!(!robot.allows(&at([0.0, 0.8, 0.5])));
+        let human = Above::of(Known::Human, up, &table()).unwrap();
+        // The robot camera, in the human frame, at -t: below when t is up.
+        assert!(human.allows(&at([0.0, 0.2, 0.0])));
+        assert!(!human.allows(&at([0.0, -0.8, 0.0])));
     }
 }
