@@ -5,6 +5,7 @@ use anyhow::Context;
 use anyhow::anyhow;
 use vref_config::Config;
 use vref_import::{BopDataset, BopImport, BopOptions, CmuHouse, CmuHouseOptions};
+use vref_perception::Segmenter;
 use vref_scene::{DatasetWriter, ScenePair};
 
 use crate::cli::{BopArgs, CmuHouseArgs};
@@ -43,7 +44,21 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
         perception,
         world_up: args.world_up,
     };
-    let import = BopImport::run(&dataset, &options);
+    let import = if args.segment {
+        config
+            .segmentation
+            .validate()
+            .context("[segmentation]")
+            .bad_input()?;
+        let mut segmenter = Segmenter::new(config.segmentation);
+        BopImport::run_segmented(&dataset, &options, &mut segmenter)
+    } else {
+        BopImport::run(&dataset, &options)
+    };
+    let no_support = import.no_support();
+    for (scene, reason) in &no_support {
+        tracing::warn!("scene {scene}: one view has 0 objects: {reason}");
+    }
     let skipped = import.skipped();
     let BopImport { scenes, failed } = import;
     let failures = failed.len();
@@ -69,6 +84,7 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
         scenes_skipped = failures,
         masks_too_small = skipped.too_small,
         masks_without_depth = skipped.no_depth,
+        views_without_support = no_support.len(),
         "imported {}",
         dataset.name()
     );
