@@ -1,7 +1,7 @@
 //! RGB-D frames kept as folders, the layout `vref segment`, `vref match`
 //! and the feeds' `rgbd:` source read:
 //!
-//! - a frame folder holds `rgb.png` (8-bit RGB or grey), `depth.png`
+//! - a frame folder holds `rgb.png` or `rgb.jpg` (8-bit RGB or grey), `depth.png`
 //!   (16-bit, registered to the colour image) and optionally `masks.png`
 //!   (an instance label image, 8- or 16-bit grey, 0 = background, each
 //!   other value one object: what `vref segment` writes);
@@ -24,8 +24,9 @@ use image::{DynamicImage, ImageReader, RgbImage};
 use crate::segment::LabelImage;
 use crate::{DepthImage, FrameError, Intrinsics, LoadError, load_colour, load_depth};
 
-/// The colour image of a frame folder.
+/// The colour image of a frame folder, PNG or else JPEG.
 pub const RGB_FILE: &str = "rgb.png";
+pub const RGB_JPEG_FILE: &str = "rgb.jpg";
 /// The depth image of a frame folder.
 pub const DEPTH_FILE: &str = "depth.png";
 /// A frame folder's own instance masks, where it has them.
@@ -157,9 +158,9 @@ impl Camera {
 /// The camera file of a frame folder: the nearest `camera.json` at or
 /// above it (at most two folders up).
 pub fn camera_file_of(frame: &Path) -> Result<PathBuf, FolderError> {
-    let tried: Vec<PathBuf> = [".", "..", "../.."]
+    let tried: Vec<PathBuf> = [frame.to_owned(), frame.join(".."), frame.join("../..")]
         .iter()
-        .map(|up| frame.join(up).join(CAMERA_FILE))
+        .map(|dir| dir.join(CAMERA_FILE))
         .collect();
     tried
         .iter()
@@ -177,7 +178,18 @@ pub fn camera_file_of(frame: &Path) -> Result<PathBuf, FolderError> {
 
 /// Whether `dir` is a frame folder (it holds a colour and a depth image).
 pub fn is_frame_dir(dir: &Path) -> bool {
-    dir.join(RGB_FILE).is_file() && dir.join(DEPTH_FILE).is_file()
+    colour_file(dir).is_file() && dir.join(DEPTH_FILE).is_file()
+}
+
+/// The colour image of frame folder `dir`: rgb.png, else rgb.jpg.
+fn colour_file(dir: &Path) -> PathBuf {
+    let png = dir.join(RGB_FILE);
+    let jpeg = dir.join(RGB_JPEG_FILE);
+    if !png.is_file() && jpeg.is_file() {
+        jpeg
+    } else {
+        png
+    }
 }
 
 /// The frames of `dir`: `dir` itself if it is a frame folder, else its
@@ -244,7 +256,7 @@ impl RgbdImages {
 
     /// Loads the frame folder `dir` taken by `camera`.
     pub fn load_with(dir: &Path, camera: Camera) -> Result<Self, FolderError> {
-        let rgb = dir.join(RGB_FILE);
+        let rgb = colour_file(dir);
         let depth_path = dir.join(DEPTH_FILE);
         let colour = load_colour(&rgb)?;
         let pixels = load_depth(&depth_path)?;
