@@ -356,10 +356,11 @@ def segment_table(rows, _arg):
 
 def camera_bop_table(rows, _arg):
     """`vref eval --method rigid` on the BOP scenes imported with --segment, one row per file."""
-    out = ["| set (vref's own masks) | method | accuracy | precision | recall | ECE |", "|---|---|---|---|---|---|"]
+    out = ["| set (vref's own segments) | scenes | method | accuracy | precision | recall | ECE |",
+           "|---|---|---|---|---|---|---|"]
     for r in rows:
-        out.append(f"| {name(r['dataset'])} | {r['method']} | {r['accuracy']:.3f} | {r['precision']:.3f} | "
-                   f"{r['recall']:.3f} | {r['ece']:.3f} |")
+        out.append(f"| {name(r['dataset'])} | {r['scenes']} | {r['method']} | {r['accuracy']:.3f} | "
+                   f"{r['precision']:.3f} | {r['recall']:.3f} | {r['ece']:.3f} |")
     return out
 
 
