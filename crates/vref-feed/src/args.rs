@@ -14,7 +14,7 @@ pub struct FeedArgs {
     /// What to publish: `synthetic` (a live world from the [feeds] preset
     /// and seed), `dataset:FILE` (the scene pairs of a JSON Lines dataset
     /// in turn, each for --hold), `recording:FILE` (a vref
-    /// recording, MCAP or .vrec, replayed with its own timing, looping) or `bop:DIR` (the
+    /// recording, MCAP or .vrec, replayed with its own timing, looping), `bop:DIR` (the
     /// scenes of a BOP dataset folder, or of a folder of them, measured by
     /// the perception front end: image 0 is the robot's view, image 1 the
     /// headset's; each scene for --hold, the person pointing at

@@ -126,7 +126,7 @@ pub(crate) fn load_views(
         views.push(View {
             feature_dim: vref_perception::FEATURE_DIM,
             entries,
-            up: up.filter(|_| images.masks.is_none()),
+            up,
         });
     }
     summary.frames = views.len();

@@ -785,7 +785,7 @@ pub struct MatchArgs {
     #[arg(long, value_name = "DIR")]
     pub labels_out: Option<PathBuf>,
     /// Draw the match over both images (person left, robot right; masks
-    /// outlined; lines green ok, orange ambiguous) as a PNG.
+    /// outlined; lines green ok, orange ambiguous; blue: no partner) as a PNG.
     #[arg(long, value_name = "FILE")]
     pub viz: Option<PathBuf>,
     /// Matching method (default: [matcher] method).
