@@ -48,11 +48,12 @@ pub(crate) fn load_views(
         source,
     };
     let frames = frame_dirs(dir).map_err(folder)?;
-    let mut front_end = FrontEnd::new(match side {
-        Side::Robot => perception.robot(),
-        Side::Human => perception.human(),
-    });
-    let mut segmenter = Segmenter::new(segmentation);
+    let (settings, noise) = match side {
+        Side::Robot => (perception.robot(), perception.robot),
+        Side::Human => (perception.human(), perception.human),
+    };
+    let mut front_end = FrontEnd::new(settings);
+    let mut segmenter = Segmenter::new(segmentation.for_camera(noise.pixel));
     let mut summary = RgbdSummary::default();
     let mut views = Vec::with_capacity(frames.len());
     let mut detections = Vec::new();

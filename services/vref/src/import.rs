@@ -5,7 +5,6 @@ use anyhow::Context;
 use anyhow::anyhow;
 use vref_config::Config;
 use vref_import::{BopDataset, BopImport, BopOptions, CmuHouse, CmuHouseOptions};
-use vref_perception::Segmenter;
 use vref_scene::{DatasetWriter, ScenePair};
 
 use crate::cli::{BopArgs, CmuHouseArgs};
@@ -50,8 +49,7 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
             .validate()
             .context("[segmentation]")
             .bad_input()?;
-        let mut segmenter = Segmenter::new(config.segmentation);
-        BopImport::run_segmented(&dataset, &options, &mut segmenter)
+        BopImport::run_segmented(&dataset, &options, &config.segmentation)
     } else {
         BopImport::run(&dataset, &options)
     };

@@ -54,11 +54,14 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
             .context("[matcher] method")
             .bad_input()?,
     };
-    let mut segmenter = Segmenter::new(config.segmentation);
-    let mut robot_end = FrontEnd::new(config.perception.robot());
-    let mut human_end = FrontEnd::new(config.perception.human());
-    let robot = view(&args.robot, "robot", &mut segmenter, &mut robot_end)?;
-    let human = view(&args.human, "person", &mut segmenter, &mut human_end)?;
+    // Each camera's segmenter is set for its own depth noise.
+    let (segmentation, perception) = (config.segmentation, config.perception);
+    let mut robot_segmenter = Segmenter::new(segmentation.for_camera(perception.robot.pixel));
+    let mut human_segmenter = Segmenter::new(segmentation.for_camera(perception.human.pixel));
+    let mut robot_end = FrontEnd::new(perception.robot());
+    let mut human_end = FrontEnd::new(perception.human());
+    let robot = view(&args.robot, "robot", &mut robot_segmenter, &mut robot_end)?;
+    let human = view(&args.human, "person", &mut human_segmenter, &mut human_end)?;
     let lines = answer(&human, &robot, method, &config)?;
     if let Some(dir) = &args.labels_out {
         std::fs::create_dir_all(dir)

@@ -12,7 +12,7 @@ use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 use vref_perception::{
     Detection, Frame, FrontEnd, LabelImage, Mask, NoSupport, PerceptionSettings, RgbdFrame,
-    Segmentation, Segmenter, Skipped, label_masks,
+    Segmentation, SegmentationSettings, Segmenter, Skipped, label_masks,
 };
 use vref_scene::{Limits, SceneGraph, SceneObject, ScenePair, Side};
 
@@ -284,16 +284,22 @@ impl BopScene {
     }
 
     /// Loads both views of `scene` and measures them on the segmenter's
-    /// masks (see [`MeasuredView::measure_segmented`]).
+    /// masks (see [`MeasuredView::measure_segmented`]), each view's
+    /// segmenter set for its camera's depth noise
+    /// ([`SegmentationSettings::for_camera`]).
     pub fn measure_segmented(
         dataset: &BopDataset,
         scene: &BopSceneDir,
         options: &BopOptions,
-        segmenter: &mut Segmenter,
+        segmentation: &SegmentationSettings,
     ) -> Result<Self, ImportError> {
         let mut robot_end = FrontEnd::new(options.perception.robot());
         let mut human_end = FrontEnd::new(options.perception.human());
-        let mut view = |image: u32, base: u64, front_end: &mut FrontEnd| {
+        let mut robot_segmenter =
+            Segmenter::new(segmentation.for_camera(options.perception.robot.pixel));
+        let mut human_segmenter =
+            Segmenter::new(segmentation.for_camera(options.perception.human.pixel));
+        let view = |image: u32, base: u64, front_end: &mut FrontEnd, segmenter: &mut Segmenter| {
             let loaded = scene.load_view(image)?;
             let up = camera_up(&loaded, options.world_up);
             let ids = |n| track_ids(scene.id, image, n, base);
@@ -309,8 +315,18 @@ impl BopScene {
                 front_end,
             )
         };
-        let robot = view(options.robot_image, ROBOT_IDS, &mut robot_end)?;
-        let human = view(options.human_image, HUMAN_IDS, &mut human_end)?;
+        let robot = view(
+            options.robot_image,
+            ROBOT_IDS,
+            &mut robot_end,
+            &mut robot_segmenter,
+        )?;
+        let human = view(
+            options.human_image,
+            HUMAN_IDS,
+            &mut human_end,
+            &mut human_segmenter,
+        )?;
         Ok(Self {
             name: dataset.scene_name(scene),
             robot,
@@ -397,12 +413,12 @@ impl BopImport {
     pub fn run_segmented(
         dataset: &BopDataset,
         options: &BopOptions,
-        segmenter: &mut Segmenter,
+        segmentation: &SegmentationSettings,
     ) -> Self {
         let mut scenes = Vec::new();
         let mut failed = Vec::new();
         for scene in dataset.scenes() {
-            match BopScene::measure_segmented(dataset, scene, options, segmenter) {
+            match BopScene::measure_segmented(dataset, scene, options, segmentation) {
                 Ok(s) => scenes.push(s),
                 Err(e) => failed.push((dataset.scene_name(scene), e)),
             }
