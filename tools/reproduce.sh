@@ -77,6 +77,17 @@ done
 "$vref" bench perception --dataset "$data/bop" --repeats "$([ "$mode" = quick ] && echo 5 || echo 20)" --json \
   > "$out/perception-bench.json"
 
+step "camera only: BOP scenes with vref's own segments, OSD segmentation scores, pictures"
+for preset in table floor; do
+  file=$work/bop/bop-$preset-segment.jsonl
+  "$vref" import bop "$data/bop/$preset" --segment --out "$file" 2>/dev/null
+  # The reporting scenes (tools/carryover-data.sh's split); rigid only.
+  grep -E '"name": *"[^"]*0000(0[6-9]|1[01])"' "$file" > "$work/bop-$preset-segment-report.jsonl" || true
+  "$vref" eval --dataset "$work/bop-$preset-segment-report.jsonl" --method rigid --json
+done > "$out/bop-segment.json"
+"$vref" bench segment --dataset "$data/osd/learn" --json > "$out/segment-osd-learn.json"
+bash tools/camera-pictures.sh
+
 step "data sets of the method tables (tools/carryover-data.sh)"
 bash tools/carryover-data.sh
 step "every method on every held-out set (tools/method-tables.sh)"

@@ -335,9 +335,39 @@ def compare_table(rows, arg):
     return out
 
 
+# The published figures of learned methods (../shared/data/osd/PROVENANCE.md):
+# on the original OSD's labels, not the ones vref is scored on.
+PUBLISHED_OSD = [("MSMFormer, first stage (learned, GPU)", 0.828, 0.606, 0.794),
+                 ("UOIS-Net-3D (learned, GPU)", 0.833, 0.712, None)]
+
+
+def segment_table(rows, _arg):
+    """`vref bench segment --json` on the OSD learn set, beside the published learned figures."""
+    out = ["| segmenter | labels | images | overlap F | boundary F | %75 | time per frame (median) |",
+           "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f"| vref (classical, one CPU core) | OSD learn set, as in ../shared/data/osd | {r['images']} | "
+                   f"{r['overlap_f']:.3f} | {r['boundary_f']:.3f} | {r['p75']:.3f} | {ms(r['median_us'])} |")
+    for label, overlap, boundary, p75 in PUBLISHED_OSD:
+        p = "-" if p75 is None else f"{p75:.3f}"
+        out.append(f"| {label} | original OSD, **not the same labels** | | {overlap:.3f} | {boundary:.3f} | {p} | |")
+    return out
+
+
+def camera_bop_table(rows, _arg):
+    """`vref eval --method rigid` on the BOP scenes imported with --segment, one row per file."""
+    out = ["| set (vref's own segments) | scenes | method | accuracy | precision | recall | ECE |",
+           "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f"| {name(r['dataset'])} | {r['scenes']} | {r['method']} | {r['accuracy']:.3f} | "
+                   f"{r['precision']:.3f} | {r['recall']:.3f} | {r['ece']:.3f} |")
+    return out
+
+
 KINDS = {"compare": compare_table, "bop": bop_table, "recording": recording_table, "pygmtools": pygmtools_table, "method": method_table, "coincidence": coincidence_table, "accuracy": accuracy_table, "families": families_table,
          "cmu": cmu_table, "solver": solver_table, "query": query_table, "demo": demo_table,
-         "soak": soak_table, "remote": remote_table, "python": python_table, "perception": perception_table}
+         "soak": soak_table, "remote": remote_table, "python": python_table, "perception": perception_table,
+         "segment": segment_table, "camera-bop": camera_bop_table}
 
 
 def render(spec):

@@ -14,11 +14,15 @@ pub struct FeedArgs {
     /// What to publish: `synthetic` (a live world from the [feeds] preset
     /// and seed), `dataset:FILE` (the scene pairs of a JSON Lines dataset
     /// in turn, each for --hold), `recording:FILE` (a vref
-    /// recording, MCAP or .vrec, replayed with its own timing, looping) or `bop:DIR` (the
+    /// recording, MCAP or .vrec, replayed with its own timing, looping), `bop:DIR` (the
     /// scenes of a BOP dataset folder, or of a folder of them, measured by
     /// the perception front end: image 0 is the robot's view, image 1 the
     /// headset's; each scene for --hold, the person pointing at
-    /// one object both views measured, another every half scene).
+    /// one object both views measured, another every half scene) or
+    /// `rgbd:DIR` (a folder of RGB-D frame folders, or one: rgb.png,
+    /// depth.png, optional masks.png, the nearest camera.json; each frame
+    /// for --hold, in natural order, segmented where it has no masks; no
+    /// pointing rays; docs/perception.md).
     #[arg(long, value_name = "SOURCE", default_value = "synthetic")]
     pub source: SourceSpec,
     /// Snapshots per second (default: [feeds] snapshot_rate_hz).
@@ -30,12 +34,12 @@ pub struct FeedArgs {
     /// and view angles. Both feeds must be given the same.
     #[arg(long, value_name = "N")]
     pub objects: Option<usize>,
-    /// Synthetic, dataset and BOP sources: the time origin of the world and of
+    /// Synthetic, dataset, BOP and RGB-D sources: the time origin of the world and of
     /// the scene cycle, nanoseconds since the Unix epoch. Both feeds must
     /// be given the same.
     #[arg(long, value_name = "NS", default_value_t = 0)]
     pub epoch_ns: u64,
-    /// Dataset and BOP sources: how long each scene pair is shown, e.g.
+    /// Dataset, BOP and RGB-D sources: how long each scene pair is shown, e.g.
     /// 5s, 500ms.
     #[arg(long, value_name = "D", default_value = "5s", value_parser = vref_measure::parse_duration)]
     pub hold: Duration,
@@ -74,6 +78,7 @@ pub enum SourceSpec {
     Dataset(PathBuf),
     Recording(PathBuf),
     Bop(PathBuf),
+    Rgbd(PathBuf),
 }
 
 impl FromStr for SourceSpec {
@@ -93,6 +98,7 @@ impl FromStr for SourceSpec {
             "dataset" => Ok(SourceSpec::Dataset(PathBuf::from(file))),
             "recording" => Ok(SourceSpec::Recording(PathBuf::from(file))),
             "bop" => Ok(SourceSpec::Bop(PathBuf::from(file))),
+            "rgbd" => Ok(SourceSpec::Rgbd(PathBuf::from(file))),
             _ => Err(SetupError::UnknownSource(s.to_owned())),
         }
     }

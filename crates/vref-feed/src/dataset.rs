@@ -14,10 +14,10 @@ use crate::{Due, Publication, SetupError};
 
 /// One view of a pair, as published.
 #[derive(Debug)]
-struct View {
-    feature_dim: usize,
-    entries: Vec<ObjectEntry>,
-    up: Option<[f32; 3]>,
+pub(crate) struct View {
+    pub(crate) feature_dim: usize,
+    pub(crate) entries: Vec<ObjectEntry>,
+    pub(crate) up: Option<[f32; 3]>,
 }
 
 #[derive(Debug)]
@@ -78,11 +78,16 @@ impl DatasetSource {
                     })
             })
             .collect::<Result<_, _>>()?;
-        Ok(Self {
+        Ok(Self::from_views(views, hold_s, epoch_ns, rate_hz))
+    }
+
+    /// `views` in turn, each for `hold_s`.
+    pub(crate) fn from_views(views: Vec<View>, hold_s: f64, epoch_ns: u64, rate_hz: f64) -> Self {
+        Self {
             views,
             hold_s,
             snapshots: Ticker::new(epoch_ns, rate_hz),
-        })
+        }
     }
 
     pub(crate) fn pairs(&self) -> usize {

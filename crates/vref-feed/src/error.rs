@@ -6,7 +6,9 @@ use vref_wire::ipc::IpcError;
 /// was given (the services exit with code 2).
 #[derive(Debug, thiserror::Error)]
 pub enum SetupError {
-    #[error("unknown source {0:?}: expected synthetic, dataset:FILE, recording:FILE or bop:DIR")]
+    #[error(
+        "unknown source {0:?}: expected synthetic, dataset:FILE, recording:FILE, bop:DIR or rgbd:DIR"
+    )]
     UnknownSource(String),
     #[error("source {0:?} names no file")]
     NoFile(String),
@@ -32,6 +34,24 @@ pub enum SetupError {
     },
     #[error("BOP data {path}: no scene could be measured")]
     EmptyBop { path: PathBuf },
+    #[error("RGB-D frames {path}")]
+    Rgbd {
+        path: PathBuf,
+        #[source]
+        source: vref_perception::folder::FolderError,
+    },
+    #[error("segmenting {path}")]
+    Segment {
+        path: PathBuf,
+        #[source]
+        source: vref_perception::SegmentError,
+    },
+    #[error("measuring {path}")]
+    Frame {
+        path: PathBuf,
+        #[source]
+        source: vref_perception::FrameError,
+    },
     #[error("cannot open recording {path}")]
     OpenRecording {
         path: PathBuf,

@@ -106,6 +106,21 @@ impl Feed {
                 );
                 (Source::Bop(Box::new(bop)), description)
             }
+            SourceSpec::Rgbd(path) => {
+                let hold_s = positive(args.hold_flag(), args.hold_seconds())?;
+                let (views, summary) =
+                    crate::rgbd::load_views(path, side, config.perception, config.segmentation)?;
+                let description = format!(
+                    "RGB-D frames {} ({} frames, {} with their own masks, {} without a supporting plane, {} objects; {hold_s} s each)",
+                    path.display(),
+                    summary.frames,
+                    summary.with_masks,
+                    summary.no_support,
+                    summary.objects
+                );
+                let source = DatasetSource::from_views(views, hold_s, args.epoch_ns, rate_hz);
+                (Source::Dataset(source), description)
+            }
             SourceSpec::Recording(path) => {
                 let gap_ns = (1e9 / rate_hz).round() as u64;
                 let replay = Replay::load(path, side, role.points(), gap_ns)?;

@@ -16,6 +16,9 @@
 //! - **bop**: the scenes of a BOP dataset measured by the perception
 //!   front end, shown in turn like a dataset, with pointing rays from the
 //!   headset camera at objects both views measured ([`BopWorld`]).
+//! - **rgbd**: a folder of RGB-D frames, each measured at start-up (the
+//!   segmenter makes the masks of a frame that has none), shown in turn
+//!   like a dataset; no pointing rays.
 //!
 //! [`Feed::prepare`] checks everything that can be wrong before shared
 //! memory is touched ([`SetupError`]); [`Feed::run`] publishes until a
@@ -29,6 +32,7 @@ mod error;
 mod feed;
 mod publication;
 mod replay;
+mod rgbd;
 mod role;
 mod service;
 mod synthetic;
@@ -39,6 +43,7 @@ pub use bop::{BopGesture, BopImageSource, BopSceneSource, BopWorld};
 pub use error::{EntryError, RunError, SetupError};
 pub use feed::{Feed, Published};
 pub use publication::{Due, Publication, Ray, Target};
+pub use rgbd::RgbdSummary;
 pub use role::Role;
 pub use service::{FeedError, run_feed};
 pub use synthetic::{synthetic_world, with_room_for};

@@ -67,7 +67,8 @@ fn errors<'a>(
     view: &'a MeasuredView,
     truth: &'a [[f64; 3]],
 ) -> impl Iterator<Item = [f64; 3]> + 'a {
-    view.detections.iter().zip(&view.instances).map(|(d, &k)| {
+    let known = view.detections.iter().zip(&view.instances);
+    known.filter_map(|(d, &k)| Some((d, k?))).map(|(d, k)| {
         let t = truth[k];
         let e = [0, 1, 2].map(|i| d.position[i] - t[i]);
         let norm = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();

@@ -44,6 +44,13 @@ pub enum ImportError {
         #[source]
         source: vref_perception::FrameError,
     },
+    #[error("{path}, image {image}: segmenting")]
+    Segment {
+        path: PathBuf,
+        image: u32,
+        #[source]
+        source: vref_perception::SegmentError,
+    },
     #[error(transparent)]
     Load(#[from] vref_perception::LoadError),
     #[error(

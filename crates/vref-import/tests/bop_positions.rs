@@ -39,7 +39,7 @@ fn errors(preset: &str, centre_offset: f64) -> [(Vec<f64>, Vec<f64>); 2] {
         {
             let truth = scene.load_view(image).unwrap().origins;
             for (d, &k) in view.detections.iter().zip(&view.instances) {
-                let t = truth[k];
+                let t = truth[k.unwrap()];
                 let e: Vec<f64> = (0..3).map(|i| d.position[i] - t[i]).collect();
                 let range = t.iter().map(|v| v * v).sum::<f64>().sqrt();
                 out[c].0.push(e.iter().map(|v| v * v).sum::<f64>().sqrt());

@@ -33,6 +33,7 @@
 
 mod error;
 mod features;
+pub mod folder;
 mod frame;
 mod front_end;
 mod intrinsics;
@@ -51,7 +52,7 @@ pub use load::{load_colour, load_depth, load_mask};
 pub use noise::{CameraNoise, DepthLaw};
 pub use outline::{outline_polygons, signed_area};
 pub use segment::{
-    LabelImage, NoSupport, Plane, RgbdFrame, SegmentError, Segmentation, SegmentationSettings,
-    Segmenter,
+    LabelImage, LabelMask, NoSupport, Plane, RgbdFrame, SegmentError, Segmentation,
+    SegmentationSettings, Segmenter, label_masks,
 };
 pub use settings::{FrontEndSettings, PerceptionSettings};

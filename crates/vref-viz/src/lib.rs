@@ -13,6 +13,7 @@ mod lookup;
 mod match_picture;
 mod projection;
 mod quantize;
+mod status_match;
 
 pub use canvas::Size;
 pub use error::{RenderError, SceneLookupError};
@@ -23,3 +24,4 @@ pub use line_plot::{
 pub use lookup::find_scene;
 pub use match_picture::MatchPicture;
 pub use projection::{Projection, UnknownProjection};
+pub use status_match::{Answer, AnswerPicture, AnswerStatus};

@@ -87,6 +87,18 @@ pub enum Command {
     /// --out a folder, written OUT/SCENE.png). A frame without a
     /// supporting plane gets an all-0 label image and its reason.
     Segment(SegmentArgs),
+    /// Match two RGB-D frames, the robot's and the person's: each a frame
+    /// folder (rgb.png, depth.png, optional masks.png, the nearest
+    /// camera.json with fx, fy, cx, cy, width, height, depth_scale_mm),
+    /// segmented where it has no masks, measured, and matched by the
+    /// [matcher] method (default rigid). Prints one answer per person-side
+    /// object, with the status the live matcher would give it.
+    ///
+    /// Exit codes: 0 answered (whatever the statuses), 1 failure while
+    /// running, 2 bad input (a file missing or unreadable, sizes that
+    /// differ, depth not 16-bit or without any reading, intrinsics not
+    /// finite and positive).
+    Match(MatchArgs),
     /// Benchmarks that print percentiles (never pass/fail).
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -284,6 +296,12 @@ pub struct BopArgs {
     /// [perception] min_pixels).
     #[arg(long, value_name = "N")]
     pub min_pixels: Option<usize>,
+    /// Measure vref's own segments instead of the dataset's masks: the
+    /// segmenter ([segmentation]) on colour and depth; a segment's ground
+    /// truth is the instance whose visible mask it overlaps with an IoU of
+    /// 0.5 or more, else it has none.
+    #[arg(long)]
+    pub segment: bool,
     /// The up direction (against gravity) of the dataset's world frame,
     /// e.g. 0,0,1: each view then carries its camera's up vector from
     /// cam_R_w2c (BOP does not say which way its worlds stand; the
@@ -744,6 +762,38 @@ pub struct SegmentArgs {
     /// Configuration file (its [segmentation] section; default:
     /// $VREF_CONFIG, else config/vref.toml if present, else built-in
     /// defaults).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct MatchArgs {
+    /// The robot camera's frame folder.
+    #[arg(value_name = "ROBOT_DIR")]
+    pub robot: PathBuf,
+    /// The person's (headset) camera's frame folder.
+    #[arg(value_name = "HUMAN_DIR")]
+    pub human: PathBuf,
+    /// Print one JSON object per person-side object: human_label,
+    /// robot_label (or null), status (ok, ambiguous, no_match),
+    /// confidence, centroid_px [u, v] and position [x, y, z] (metres,
+    /// the person's camera frame).
+    #[arg(long)]
+    pub json: bool,
+    /// Write the labels the answers name: DIR/robot.png and DIR/human.png
+    /// (16-bit, 0 background; created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub labels_out: Option<PathBuf>,
+    /// Draw the match over both images (person left, robot right; masks
+    /// outlined; lines green ok, orange ambiguous; blue: no partner) as a PNG.
+    #[arg(long, value_name = "FILE")]
+    pub viz: Option<PathBuf>,
+    /// Matching method (default: [matcher] method).
+    #[arg(long, value_name = "NAME", value_parser = parse_method)]
+    pub method: Option<Method>,
+    /// Configuration file ([matcher], [matching], [perception],
+    /// [segmentation]; default: $VREF_CONFIG, else config/vref.toml if
+    /// present, else built-in defaults).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
 }

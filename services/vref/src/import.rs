@@ -43,7 +43,20 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
         perception,
         world_up: args.world_up,
     };
-    let import = BopImport::run(&dataset, &options);
+    let import = if args.segment {
+        config
+            .segmentation
+            .validate()
+            .context("[segmentation]")
+            .bad_input()?;
+        BopImport::run_segmented(&dataset, &options, &config.segmentation)
+    } else {
+        BopImport::run(&dataset, &options)
+    };
+    let no_support = import.no_support();
+    for (scene, reason) in &no_support {
+        tracing::warn!("scene {scene}: one view has 0 objects: {reason}");
+    }
     let skipped = import.skipped();
     let BopImport { scenes, failed } = import;
     let failures = failed.len();
@@ -51,11 +64,20 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
         tracing::warn!("scene {scene} skipped: {:#}", anyhow::Error::new(error));
     }
     let limits = config.scene.limits();
-    let pairs = scenes
-        .iter()
-        .map(|s| s.pair(&limits))
-        .collect::<Result<Vec<ScenePair>, _>>()
-        .bad_input()?;
+    // With vref's own segments a view can hold no object at all (no
+    // plane, nothing measurable): that scene is left out, not the import.
+    let mut pairs: Vec<ScenePair> = Vec::with_capacity(scenes.len());
+    let mut left_out = 0;
+    for scene in &scenes {
+        match scene.pair(&limits) {
+            Ok(pair) => pairs.push(pair),
+            Err(e) if args.segment => {
+                left_out += 1;
+                tracing::warn!("scene {} skipped: {:#}", scene.name, anyhow::Error::new(e));
+            }
+            Err(e) => return Err(e).bad_input(),
+        }
+    }
     if pairs.is_empty() {
         return Err(anyhow!(
             "{}: none of its {failures} scenes could be imported",
@@ -66,9 +88,10 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
     write_dataset(&pairs, args.out.as_deref())?;
     tracing::warn!(
         scenes = pairs.len(),
-        scenes_skipped = failures,
+        scenes_skipped = failures + left_out,
         masks_too_small = skipped.too_small,
         masks_without_depth = skipped.no_depth,
+        views_without_support = no_support.len(),
         "imported {}",
         dataset.name()
     );

@@ -20,6 +20,7 @@ mod failure;
 mod harness;
 mod import;
 mod inject;
+mod match_frames;
 mod progress;
 mod query;
 mod record;
@@ -59,6 +60,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => demo::run(&args),
         Command::Soak(args) => soak::run(&args),
         Command::Segment(args) => segment::run(&args),
+        Command::Match(args) => match_frames::run(&args),
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
         Command::Bench(BenchCommand::Query(args)) => bench_query::query(&args),
         Command::Bench(BenchCommand::Remote(args)) => bench_remote::remote(&args),

@@ -104,10 +104,12 @@ fn view_image<'a>(view: &'a vref_import::BopView, measured: &MeasuredView) -> Vi
         .detections
         .iter()
         .zip(&measured.instances)
-        .map(|(d, &k)| ImageObject {
-            id: d.id,
-            centre: view.intrinsics.project(d.position).unwrap_or([0.0, 0.0]),
-            outline: outline(&view.masks[k]),
+        .filter_map(|(d, &k)| {
+            Some(ImageObject {
+                id: d.id,
+                centre: view.intrinsics.project(d.position).unwrap_or([0.0, 0.0]),
+                outline: outline(view.masks.get(k?)?),
+            })
         })
         .collect();
     let (width, height) = view.colour.dimensions();

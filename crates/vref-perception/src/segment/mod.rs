@@ -17,6 +17,7 @@
 //! size allocate nothing.
 
 mod components;
+mod masks;
 mod normals;
 mod overlay;
 mod plane;
@@ -26,6 +27,7 @@ mod split;
 
 use image::{ImageBuffer, Luma, RgbImage};
 
+pub use masks::{LabelMask, label_masks};
 pub use overlay::overlay;
 pub use plane::Plane;
 pub use settings::SegmentationSettings;

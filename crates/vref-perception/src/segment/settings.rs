@@ -91,7 +91,36 @@ impl Default for SegmentationSettings {
     }
 }
 
+/// One reading's depth noise at 1 m of the camera the settings were tuned
+/// for (OSD's Kinect; the robot camera's `pixel` law has the same).
+pub const REFERENCE_PIXEL_NOISE_M: f64 = 0.0025;
+
 impl SegmentationSettings {
+    /// The settings for a camera whose one reading errs by `pixel` (its
+    /// `[perception.*] pixel` law): a camera noisier at 1 m than the
+    /// reference by a factor k gets its depth thresholds (plane tolerance,
+    /// heights, jump ratio) and crease thresholds multiplied by sqrt(k), and
+    /// its smoothing radius too, so that noise neither seeds nor cuts
+    /// objects; a camera as quiet as the reference, or quieter, keeps
+    /// them.
+    pub fn for_camera(&self, pixel: crate::DepthLaw) -> Self {
+        let k = pixel.at(1.0) / REFERENCE_PIXEL_NOISE_M;
+        if !(k.is_finite() && k > 1.0) {
+            return *self;
+        }
+        let s = k.sqrt();
+        Self {
+            plane_tolerance_m: self.plane_tolerance_m * s,
+            min_height_m: self.min_height_m * s,
+            grow_height_m: self.grow_height_m * s,
+            jump_ratio: self.jump_ratio * s,
+            smooth_radius: (f64::from(self.smooth_radius) * s).round() as u32,
+            crease: self.crease * s,
+            weak_crease: self.weak_crease * s,
+            ..*self
+        }
+    }
+
     pub fn validate(&self) -> Result<(), SettingsError> {
         let bad = |name, value: f64, expected| {
             Err(SettingsError::Bad {
@@ -176,5 +205,32 @@ impl SegmentationSettings {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod camera_tests {
+    use super::*;
+    use crate::DepthLaw;
+
+    #[test]
+    fn a_noisier_camera_gets_coarser_thresholds_and_a_quiet_one_keeps_them() {
+        let base = SegmentationSettings::default();
+        let quiet = DepthLaw {
+            a: 0.0,
+            b: 0.0,
+            c: 0.001,
+        };
+        assert_eq!(base.for_camera(quiet), base);
+        let four_times = DepthLaw {
+            c: 4.0 * REFERENCE_PIXEL_NOISE_M,
+            ..quiet
+        };
+        let coarse = base.for_camera(four_times);
+        assert!((coarse.min_height_m - 2.0 * base.min_height_m).abs() < 1e-12);
+        assert!((coarse.jump_ratio - 2.0 * base.jump_ratio).abs() < 1e-12);
+        assert_eq!(coarse.smooth_radius, 2 * base.smooth_radius);
+        assert_eq!(coarse.min_pixels, base.min_pixels);
+        assert!(coarse.validate().is_ok());
     }
 }

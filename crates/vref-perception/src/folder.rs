@@ -1,0 +1,353 @@
+//! RGB-D frames kept as folders, the layout `vref segment`, `vref match`
+//! and the feeds' `rgbd:` source read:
+//!
+//! - a frame folder holds `rgb.png` or `rgb.jpg` (8-bit RGB or grey), `depth.png`
+//!   (16-bit, registered to the colour image) and optionally `masks.png`
+//!   (an instance label image, 8- or 16-bit grey, 0 = background, each
+//!   other value one object: what `vref segment` writes);
+//! - `camera.json` (`fx`, `fy`, `cx`, `cy`, optional `width` and `height`,
+//!   `depth_scale_mm`, millimetres per depth unit, default 1) is the
+//!   nearest one: in the frame folder, else the folder above, else the one
+//!   above that. So a single frame, `DIR/camera.json` beside `DIR/NNNN/`
+//!   frame folders, and the OSD layout (`camera.json` beside `learn/`)
+//!   all read as they are.
+//!
+//! OSD's own `label.png` is never read as masks: it is ground truth in
+//! OSD's scheme (table and background below 20), not instances.
+//!
+//! Every error names the file and what is wrong with it.
+
+use std::path::{Path, PathBuf};
+
+use image::{DynamicImage, ImageReader, RgbImage};
+
+use crate::segment::LabelImage;
+use crate::{DepthImage, FrameError, Intrinsics, LoadError, load_colour, load_depth};
+
+/// The colour image of a frame folder, PNG or else JPEG.
+pub const RGB_FILE: &str = "rgb.png";
+pub const RGB_JPEG_FILE: &str = "rgb.jpg";
+/// The depth image of a frame folder.
+pub const DEPTH_FILE: &str = "depth.png";
+/// A frame folder's own instance masks, where it has them.
+pub const MASKS_FILE: &str = "masks.png";
+/// The camera file.
+pub const CAMERA_FILE: &str = "camera.json";
+
+/// Why a frame folder or camera file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum FolderError {
+    #[error("cannot read {path}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: not a camera file ({message})")]
+    CameraSyntax { path: PathBuf, message: String },
+    #[error("{path}: {name} is {value}, but must be finite and positive")]
+    CameraValue {
+        path: PathBuf,
+        name: &'static str,
+        value: f64,
+    },
+    #[error("{path}: bad intrinsics")]
+    Intrinsics {
+        path: PathBuf,
+        #[source]
+        source: FrameError,
+    },
+    #[error("{path}: give both width and height, or neither")]
+    HalfSize { path: PathBuf },
+    #[error("no camera file for {frame}: none of {tried} exists")]
+    NoCamera { frame: PathBuf, tried: String },
+    #[error("{dir}: no frame folders (FRAME/{RGB_FILE} with FRAME/{DEPTH_FILE})")]
+    NoFrames { dir: PathBuf },
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    #[error("{path} is {found_width}x{found_height}, but {reference} is {width}x{height}")]
+    Size {
+        path: PathBuf,
+        found_width: u32,
+        found_height: u32,
+        reference: String,
+        width: u32,
+        height: u32,
+    },
+    #[error("{path}: every pixel is 0 (no depth reading at all)")]
+    NoDepth { path: PathBuf },
+    #[error("{path}: masks must be 8- or 16-bit grey labels, this one is {found:?}")]
+    NotLabels {
+        path: PathBuf,
+        found: image::ColorType,
+    },
+}
+
+/// A pinhole camera, its depth unit and the image size it states.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub intrinsics: Intrinsics,
+    pub metres_per_unit: f64,
+    pub size: Option<(u32, u32)>,
+}
+
+#[derive(Debug, serde::Deserialize)]
+struct CameraFile {
+    fx: f64,
+    fy: f64,
+    cx: f64,
+    cy: f64,
+    width: Option<u32>,
+    height: Option<u32>,
+    #[serde(default = "one")]
+    depth_scale_mm: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl Camera {
+    /// Reads a camera file, refusing values a camera cannot have.
+    pub fn load(path: &Path) -> Result<Self, FolderError> {
+        let text = std::fs::read_to_string(path).map_err(|source| FolderError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        let file: CameraFile =
+            serde_json::from_str(&text).map_err(|e| FolderError::CameraSyntax {
+                path: path.to_owned(),
+                message: e.to_string(),
+            })?;
+        for (name, value) in [
+            ("fx", file.fx),
+            ("fy", file.fy),
+            ("depth_scale_mm", file.depth_scale_mm),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(FolderError::CameraValue {
+                    path: path.to_owned(),
+                    name,
+                    value,
+                });
+            }
+        }
+        let intrinsics = Intrinsics::new(file.fx, file.fy, file.cx, file.cy).map_err(|source| {
+            FolderError::Intrinsics {
+                path: path.to_owned(),
+                source,
+            }
+        })?;
+        let size = match (file.width, file.height) {
+            (Some(w), Some(h)) => Some((w, h)),
+            (None, None) => None,
+            _ => {
+                return Err(FolderError::HalfSize {
+                    path: path.to_owned(),
+                });
+            }
+        };
+        Ok(Self {
+            intrinsics,
+            metres_per_unit: file.depth_scale_mm / 1000.0,
+            size,
+        })
+    }
+}
+
+/// The camera file of a frame folder: the nearest `camera.json` at or
+/// above it (at most two folders up).
+pub fn camera_file_of(frame: &Path) -> Result<PathBuf, FolderError> {
+    let tried: Vec<PathBuf> = [frame.to_owned(), frame.join(".."), frame.join("../..")]
+        .iter()
+        .map(|dir| dir.join(CAMERA_FILE))
+        .collect();
+    tried
+        .iter()
+        .find(|p| p.is_file())
+        .cloned()
+        .ok_or_else(|| FolderError::NoCamera {
+            frame: frame.to_owned(),
+            tried: tried
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
+}
+
+/// Whether `dir` is a frame folder (it holds a colour and a depth image).
+pub fn is_frame_dir(dir: &Path) -> bool {
+    colour_file(dir).is_file() && dir.join(DEPTH_FILE).is_file()
+}
+
+/// The colour image of frame folder `dir`: rgb.png, else rgb.jpg.
+fn colour_file(dir: &Path) -> PathBuf {
+    let png = dir.join(RGB_FILE);
+    let jpeg = dir.join(RGB_JPEG_FILE);
+    if !png.is_file() && jpeg.is_file() {
+        jpeg
+    } else {
+        png
+    }
+}
+
+/// The frames of `dir`: `dir` itself if it is a frame folder, else its
+/// frame folders in natural order (learn2 before learn10, 0009 before
+/// 0010), each with its name.
+pub fn frame_dirs(dir: &Path) -> Result<Vec<(String, PathBuf)>, FolderError> {
+    if is_frame_dir(dir) {
+        let name = dir
+            .file_name()
+            .map_or_else(|| "frame".to_owned(), |n| n.to_string_lossy().into_owned());
+        return Ok(vec![(name, dir.to_owned())]);
+    }
+    let io = |source| FolderError::Io {
+        path: dir.to_owned(),
+        source,
+    };
+    let mut frames = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(io)? {
+        let path = entry.map_err(io)?.path();
+        if is_frame_dir(&path) {
+            let name = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            frames.push((name, path));
+        }
+    }
+    if frames.is_empty() {
+        return Err(FolderError::NoFrames {
+            dir: dir.to_owned(),
+        });
+    }
+    frames.sort_by_cached_key(|(name, _)| natural_key(name));
+    Ok(frames)
+}
+
+/// A name's text before its trailing number, and the number.
+fn natural_key(name: &str) -> (String, u64, String) {
+    let digits = name.len() - name.trim_end_matches(|c: char| c.is_ascii_digit()).len();
+    let (stem, number) = name.split_at(name.len() - digits);
+    (
+        stem.to_owned(),
+        number.parse().unwrap_or(u64::MAX),
+        name.to_owned(),
+    )
+}
+
+/// One frame folder decoded and checked against itself and its camera.
+#[derive(Debug, Clone)]
+pub struct RgbdImages {
+    pub camera: Camera,
+    pub colour: RgbImage,
+    pub depth: DepthImage,
+    /// The folder's own masks, where it has them.
+    pub masks: Option<LabelImage>,
+}
+
+impl RgbdImages {
+    /// Loads the frame folder `dir` with the nearest camera file.
+    pub fn load(dir: &Path) -> Result<Self, FolderError> {
+        let camera = Camera::load(&camera_file_of(dir)?)?;
+        Self::load_with(dir, camera)
+    }
+
+    /// Loads the frame folder `dir` taken by `camera`.
+    pub fn load_with(dir: &Path, camera: Camera) -> Result<Self, FolderError> {
+        let rgb = colour_file(dir);
+        let depth_path = dir.join(DEPTH_FILE);
+        let colour = load_colour(&rgb)?;
+        let pixels = load_depth(&depth_path)?;
+        let (width, height) = colour.dimensions();
+        let same = |path: &Path, (w, h): (u32, u32)| {
+            if (w, h) == (width, height) {
+                Ok(())
+            } else {
+                Err(FolderError::Size {
+                    path: path.to_owned(),
+                    found_width: w,
+                    found_height: h,
+                    reference: rgb.display().to_string(),
+                    width,
+                    height,
+                })
+            }
+        };
+        same(&depth_path, pixels.dimensions())?;
+        if let Some((w, h)) = camera.size
+            && (w, h) != (width, height)
+        {
+            return Err(FolderError::Size {
+                path: rgb.clone(),
+                found_width: width,
+                found_height: height,
+                reference: "the camera file".to_owned(),
+                width: w,
+                height: h,
+            });
+        }
+        if pixels.as_raw().iter().all(|&d| d == 0) {
+            return Err(FolderError::NoDepth { path: depth_path });
+        }
+        let depth = DepthImage::new(pixels, camera.metres_per_unit).map_err(|source| {
+            FolderError::Intrinsics {
+                path: depth_path.clone(),
+                source,
+            }
+        })?;
+        let masks_path = dir.join(MASKS_FILE);
+        let masks = if masks_path.is_file() {
+            let labels = load_labels(&masks_path)?;
+            same(&masks_path, labels.dimensions())?;
+            Some(labels)
+        } else {
+            None
+        };
+        Ok(Self {
+            camera,
+            colour,
+            depth,
+            masks,
+        })
+    }
+}
+
+/// An instance label image, 8- or 16-bit grey.
+pub fn load_labels(path: &Path) -> Result<LabelImage, FolderError> {
+    let reader = ImageReader::open(path)
+        .and_then(ImageReader::with_guessed_format)
+        .map_err(|source| LoadError::Open {
+            path: path.to_owned(),
+            source,
+        })?;
+    let decoded = reader.decode().map_err(|source| LoadError::Decode {
+        path: path.to_owned(),
+        source,
+    })?;
+    match decoded {
+        DynamicImage::ImageLuma16(labels) => Ok(labels),
+        grey @ DynamicImage::ImageLuma8(_) => Ok(grey.to_luma16_labels()),
+        other => Err(FolderError::NotLabels {
+            path: path.to_owned(),
+            found: other.color(),
+        }),
+    }
+}
+
+/// 8-bit labels widened without `image`'s rescaling (which would turn
+/// label 1 into 257).
+trait WidenLabels {
+    fn to_luma16_labels(&self) -> LabelImage;
+}
+
+impl WidenLabels for DynamicImage {
+    fn to_luma16_labels(&self) -> LabelImage {
+        let grey = self.to_luma8();
+        let (w, h) = grey.dimensions();
+        LabelImage::from_fn(w, h, |u, v| {
+            image::Luma([u16::from(grey.get_pixel(u, v).0[0])])
+        })
+    }
+}
