@@ -276,3 +276,41 @@ fn the_demo_answers_every_query_and_reports_its_accuracy() {
     );
     assert!(summary["rtt_p99_us"].as_u64().unwrap() >= summary["rtt_p50_us"].as_u64().unwrap());
 }
+
+/// Issue 40, case 1: both feeds replaced by a source whose features are
+/// shorter (48 values to 6 in the report). Each side's first new snapshot
+/// used to be refused against the other side's old one, for as long as
+/// the matcher ran; now the second side's agreement lets both in. The
+/// grace is set out of reach, so that only the agreement can.
+#[test]
+fn feeds_replaced_by_a_source_with_another_feature_length_are_answered() {
+    let (mut h, ipc, source) =
+        support::table::table_harness_with("fdim", "feature_dim_grace_ms = 600000\n", "");
+    start_all(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    wait_ready(&mut client, &h);
+    for feed in ["perception", "gesture"] {
+        h.signal(feed, Signal::SIGINT);
+        h.wait(feed, Duration::from_secs(10));
+    }
+    eventually(Duration::from_secs(10), "stale without feeds", || {
+        (status_of(&mut client, 2)? == AnswerStatus::Stale).then_some(())
+    });
+    // The same table with the features cut to their first four values.
+    let mut line: serde_json::Value =
+        serde_json::from_str(support::table::dataset().trim()).unwrap();
+    for side in ["robot", "human"] {
+        for object in line[side]["objects"].as_array_mut().unwrap() {
+            object["feature"].as_array_mut().unwrap().truncate(4);
+        }
+    }
+    let shorter = h.dir.path().join("table-4.jsonl");
+    std::fs::write(&shorter, format!("{line}\n")).unwrap();
+    start_feeds(&mut h, &format!("dataset:{}", shorter.display()));
+    let a = eventually(Duration::from_secs(15), "ok with 4 feature values", || {
+        let a = client.by_human_object(2, Duration::from_millis(300)).ok()?;
+        (a.status() == AnswerStatus::Ok).then_some(a)
+    });
+    assert_eq!(a.robot_track_id, robot_id(2));
+    assert!(h.log("matcher").contains("feature_dim_other_side"));
+}

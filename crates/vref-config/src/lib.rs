@@ -215,6 +215,12 @@ impl Config {
                 "stale_after_ms and cleanup_interval_ms must be at least 1".to_owned(),
             ));
         }
+        if matcher.feature_dim_grace_ms == 0 {
+            return Err(section(
+                "matcher",
+                "feature_dim_grace_ms must be at least 1: at 0 two live feeds of different feature lengths would replace each other's snapshots on every message".to_owned(),
+            ));
+        }
         if matcher.ray_max_age_ms == 0 {
             return Err(section(
                 "matcher",
