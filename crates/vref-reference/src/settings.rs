@@ -36,11 +36,12 @@ pub struct MatcherSettings {
     /// How often dead nodes of crashed processes are cleaned up, ms.
     pub cleanup_interval_ms: u64,
     /// A snapshot whose feature length differs from the other side's is
-    /// taken (and the other side's dropped) once the other side has sent
-    /// nothing accepted for this long, ms: a source replaced on one side
-    /// is not locked out by a snapshot its old peer left behind. Without
-    /// waiting, when the other side has itself been refused for sending
-    /// this snapshot's length (both sources replaced).
+    /// taken (and the other side's dropped) once its side has sent that
+    /// length for this long while the other side had nothing accepted,
+    /// ms: a source replaced on one side is not locked out by a snapshot
+    /// its old peer left behind. Without waiting, when the other side has
+    /// itself been refused for sending this snapshot's length (both
+    /// sources replaced).
     pub feature_dim_grace_ms: u64,
     /// Answers whose confidence is below this are `ambiguous` (with the
     /// top alternatives). `rigid`'s confidence is a calibrated probability

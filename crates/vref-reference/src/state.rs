@@ -45,8 +45,9 @@ pub struct ReferenceState {
     /// When each side's snapshot in force was accepted.
     accepted_at: [Option<Instant>; 2],
     /// The feature length each side was last refused for, as
-    /// `feature_dim_other_side`, since its last accepted snapshot.
-    dim_refused: [Option<usize>; 2],
+    /// `feature_dim_other_side`, and since when it has been, since its
+    /// last accepted snapshot.
+    dim_refused: [Option<(usize, Instant)>; 2],
     feature_dim_grace: Duration,
     rejections: Rejections,
 }
@@ -114,7 +115,12 @@ impl ReferenceState {
             }
             Err(rejected) => {
                 if rejected.reason == RejectReason::FeatureDimOtherSide {
-                    self.dim_refused[side as usize] = Some(header.feature_dim as usize);
+                    let dim = header.feature_dim as usize;
+                    let refused = &mut self.dim_refused[side as usize];
+                    match refused {
+                        Some((d, _)) if *d == dim => {}
+                        _ => *refused = Some((dim, now.instant)),
+                    }
                 }
                 self.rejections.count(rejected.reason);
                 Err(rejected)
@@ -167,17 +173,23 @@ impl ReferenceState {
         if mine == 0 || theirs == 0 || mine == theirs {
             return Ok(false);
         }
-        let agrees = self.dim_refused[other as usize] == Some(mine);
-        let silent = self.accepted_at[other as usize]
-            .is_none_or(|at| now.instant.saturating_duration_since(at) >= self.feature_dim_grace);
-        if agrees || silent {
+        let grace = self.feature_dim_grace;
+        let over = |since: Instant| now.instant.saturating_duration_since(since) >= grace;
+        let agrees = self.dim_refused[other as usize].is_some_and(|(d, _)| d == mine);
+        // One message is no new source (an injected or stray one): the
+        // new length must have been sent for the grace, while the other
+        // side sent nothing.
+        let insists =
+            self.dim_refused[side as usize].is_some_and(|(d, since)| d == mine && over(since));
+        let silent = self.accepted_at[other as usize].is_none_or(over);
+        if agrees || (insists && silent) {
             return Ok(true);
         }
         Err(Rejected {
             reason: RejectReason::FeatureDimOtherSide,
             detail: format!(
-                "feature dimension {mine}, the other side's is {theirs} (taken once the other side sends {mine} too, or nothing for {} ms)",
-                self.feature_dim_grace.as_millis()
+                "feature dimension {mine}, the other side's is {theirs} (taken once the other side sends {mine} too, or once this side has sent {mine} for {} ms while the other sent nothing)",
+                grace.as_millis()
             ),
         })
     }

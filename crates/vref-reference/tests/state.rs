@@ -864,4 +864,11 @@ fn one_side_changing_its_feature_length_waits_for_the_grace_if_the_other_is_live
         s.state.snapshot(Side::Robot).unwrap().graph.feature_dim(),
         5
     );
+    // One stray message of the old length, however long after: refused
+    // (a new source sends for the grace).
+    assert_eq!(with_dim(&mut s, Side::Robot, 5, 5, &at(5000)), Ok(()));
+    assert_eq!(
+        with_dim(&mut s, Side::Human, 3, 4, &at(9000)),
+        Err(RejectReason::FeatureDimOtherSide)
+    );
 }
