@@ -13,7 +13,7 @@ use support::table::table_harness;
 use vref_inject::{robot_id, valid_objects};
 use vref_scene::Side;
 use vref_wire::ipc::ReferenceClient;
-use vref_wire::{AnswerStatus, ObjectEntry};
+use vref_wire::{AnswerStatus, ObjectEntry, ReferenceAnswer};
 
 fn human_objects() -> Vec<ObjectEntry> {
     valid_objects(Side::Human)
@@ -306,7 +306,28 @@ fn feeds_replaced_by_a_source_with_another_feature_length_are_answered() {
     }
     let shorter = h.dir.path().join("table-4.jsonl");
     std::fs::write(&shorter, format!("{line}\n")).unwrap();
-    start_feeds(&mut h, &format!("dataset:{}", shorter.display()));
+    let shorter = format!("dataset:{}", shorter.display());
+    // The robot's new feed alone: refused against the human side's old
+    // snapshot, and the stale answers say so.
+    h.start(
+        "perception",
+        "vref-perception-feed",
+        &["--source", &shorter, "--rate", "50"],
+    );
+    let a = eventually(Duration::from_secs(10), "a stale answer naming why", || {
+        let a = client.by_human_object(2, Duration::from_millis(300)).ok()?;
+        (a.status() == AnswerStatus::Stale && a.flags & ReferenceAnswer::FLAG_REFUSAL != 0)
+            .then_some(a)
+    });
+    assert_eq!(
+        a.refusal,
+        vref_reference::RejectReason::FeatureDimOtherSide as u32
+    );
+    h.start(
+        "gesture",
+        "vref-gesture-feed",
+        &["--source", &shorter, "--rate", "50"],
+    );
     let a = eventually(Duration::from_secs(15), "ok with 4 feature values", || {
         let a = client.by_human_object(2, Duration::from_millis(300)).ok()?;
         (a.status() == AnswerStatus::Ok).then_some(a)

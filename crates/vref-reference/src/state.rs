@@ -49,6 +49,9 @@ pub struct ReferenceState {
     /// last accepted snapshot.
     dim_refused: [Option<(usize, Instant)>; 2],
     feature_dim_grace: Duration,
+    /// Each side's latest refused snapshot's reason, since its last
+    /// accepted one: what a stale or not-ready answer names.
+    last_refused: [Option<RejectReason>; 2],
     rejections: Rejections,
 }
 
@@ -78,6 +81,7 @@ impl ReferenceState {
             accepted_at: [None; 2],
             dim_refused: [None; 2],
             feature_dim_grace: Duration::from_millis(settings.feature_dim_grace_ms),
+            last_refused: [None; 2],
             rejections: Rejections::default(),
         })
     }
@@ -111,9 +115,11 @@ impl ReferenceState {
                 *self.slot(side) = Some(Arc::new(snapshot));
                 self.accepted_at[side as usize] = Some(now.instant);
                 self.dim_refused[side as usize] = None;
+                self.last_refused[side as usize] = None;
                 Ok(Accepted { placement })
             }
             Err(rejected) => {
+                self.last_refused[side as usize] = Some(rejected.reason);
                 if rejected.reason == RejectReason::FeatureDimOtherSide {
                     let dim = header.feature_dim as usize;
                     let refused = &mut self.dim_refused[side as usize];
@@ -267,6 +273,12 @@ impl ReferenceState {
             Side::Robot => self.robot.as_deref(),
             Side::Human => self.human.as_deref(),
         }
+    }
+
+    /// The reason of `side`'s latest refused snapshot, if none was
+    /// accepted after it.
+    pub fn last_refused(&self, side: Side) -> Option<RejectReason> {
+        self.last_refused[side as usize]
     }
 
     pub fn latest_ray(&self) -> Option<&Ray> {

@@ -35,11 +35,12 @@ pub fn run(args: &WireLayoutArgs) -> Result<(), Failure> {
     stdout::print(&text)
 }
 
-/// The matcher's reject reasons: the index of `MatcherStats.rejected`.
+/// The matcher's reject reasons: the index of `MatcherStats.rejected`,
+/// and the value of `ReferenceAnswer.refusal`.
 fn reject_reasons() -> Codes {
     Codes {
         name: "RejectReason",
-        used_in: vec!["MatcherStats.rejected"],
+        used_in: vec!["MatcherStats.rejected", "ReferenceAnswer.refusal"],
         kind: "index",
         values: RejectReason::ALL
             .into_iter()
