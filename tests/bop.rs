@@ -129,6 +129,28 @@ fn the_live_demo_on_bop_scenes_answers_pointing_right() {
     assert_eq!(summary["errors"], 0, "{summary}");
     let accuracy = summary["accuracy"].as_f64().unwrap();
     assert!(accuracy >= 0.8, "{summary}");
+
+    // Issue 40, case 6: at a hold of 1 s (slots of 0.5 s, no longer than
+    // the settling time) the demo never asked, and said "no answer from
+    // the services within 30s" (exit 1) while they were fine.
+    let run = vref(
+        &[
+            "demo",
+            "--source",
+            &source,
+            "--hold",
+            "1s",
+            "--duration",
+            "3s",
+            "--json",
+        ],
+        Duration::from_secs(120),
+    )
+    .ok();
+    let summary: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let queries = summary["queries"].as_u64().unwrap();
+    assert!(queries >= 5, "{summary}");
+    assert_eq!(summary["answered"], queries, "{summary}");
 }
 
 #[test]
