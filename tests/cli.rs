@@ -308,6 +308,73 @@ fn config_check_refuses_a_bad_tier_naming_it_and_so_does_the_matcher() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("tier"));
 }
 
+/// Issue 40, case 7: `vref config check` accepted these, and the matcher
+/// then exited 1 (for the root path saying only `ResourceCreationFailed`),
+/// or, with a relative root path, ran with iceoryx2's files in its working
+/// directory. Both now refuse each as bad configuration (2), naming it.
+#[test]
+fn config_check_and_the_matcher_refuse_bad_ipc_settings_and_presets() {
+    let dir = tempfile::tempdir().unwrap();
+    let long_root = format!("/tmp/{}", "r".repeat(100));
+    let cases = [
+        (
+            "slash",
+            "[ipc]\nprefix = \"a/b_\"\n".to_owned(),
+            "`/` is not allowed",
+        ),
+        (
+            "long",
+            format!("[ipc]\nprefix = \"{}\"\n", "p".repeat(300)),
+            "at most 32",
+        ),
+        (
+            "root",
+            format!("[ipc]\nroot_path = \"{long_root}\"\n"),
+            "Unix socket path",
+        ),
+        (
+            "relative",
+            "[ipc]\nroot_path = \"iox\"\n".to_owned(),
+            "must be absolute",
+        ),
+        ("preset", "[feeds]\npreset = \"nope\"\n".to_owned(), "nope"),
+    ];
+    let matcher = Path::new(env!("CARGO_BIN_EXE_vref")).with_file_name("vref-matcher");
+    for (name, text, says) in cases {
+        let file = write(dir.path(), &format!("{name}.toml"), &text);
+        let run = vref(&["config", "check", &file], LIMIT);
+        assert_eq!(run.code, Some(2), "{name}: {}", run.stderr);
+        assert!(run.stderr.contains(says), "{name}: {}", run.stderr);
+        let mut child = std::process::Command::new(&matcher)
+            .args(["--config", &file])
+            .current_dir(dir.path())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let deadline = std::time::Instant::now() + Duration::from_secs(10);
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status;
+            }
+            if std::time::Instant::now() > deadline {
+                child.kill().ok();
+                child.wait().ok();
+                panic!("{name}: the matcher ran with the bad configuration");
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let mut stderr = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+        assert_eq!(status.code(), Some(2), "{name}: {stderr}");
+        assert!(stderr.contains(says), "{name}: {stderr}");
+    }
+    assert!(
+        !dir.path().join("iox").exists(),
+        "no folder in the working directory"
+    );
+}
+
 #[test]
 fn durations_take_one_form_with_a_unit_and_bad_ones_are_named() {
     for (args, says) in [

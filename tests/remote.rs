@@ -348,6 +348,142 @@ fn malformed_and_flooding_payloads_are_refused_and_counted_while_the_headset_goe
     headset.stop();
 }
 
+/// Issue 40, case 2: one snapshot and one ray claiming sequence 2^64-1 in
+/// the headset's own session used to become the session's latest, and
+/// every later real message was refused as `sequence_backwards` until the
+/// app started a new session. The bridge now follows the matcher's
+/// sequence rules: the jump is refused and the headset goes on.
+#[test]
+fn one_message_with_the_largest_sequence_does_not_lock_the_headset_out() {
+    let mut robot = Robot::new("jump", "", 0);
+    robot.start_robot_side();
+    robot.start_bridge();
+    let headset = Headset::start(&robot, Format::Binary, HEADSET, 1);
+    let mut remote = robot.remote(Format::Json);
+    answer_until(
+        &mut remote,
+        human_object(3),
+        READY,
+        "first ok answer",
+        is_ok,
+    );
+    let stats = BridgeStatsReader::new(&robot);
+    stats.until(Duration::from_secs(10), "bridge statistics", |s| {
+        s.published.human_gesture > 0
+    });
+
+    let attacker = robot.session();
+    let keys = robot.keys();
+    let snapshot = human_view_binary(HEADSET, u64::MAX, |_| {});
+    attacker
+        .put(keys.human_snapshot(), snapshot)
+        .encoding(Message::Snapshot.encoding(Format::Binary))
+        .wait()
+        .unwrap();
+    let ray = binary::encode_ray(&ray_at(HEADSET, u64::MAX, 1));
+    attacker
+        .put(keys.human_gesture(), ray)
+        .encoding(Message::Ray.encoding(Format::Binary))
+        .wait()
+        .unwrap();
+    let refused = stats.until(Duration::from_secs(10), "both jumps refused", |s| {
+        s.human_snapshot.refused.get("sequence_jump") == Some(&1)
+            && s.human_gesture.refused.get("sequence_jump") == Some(&1)
+    });
+    // Well past the matcher's stale_after (500 ms): the headset's own
+    // messages are still passed on, and answers rest on them.
+    let after = stats.until(
+        Duration::from_secs(10),
+        "the headset still passed on",
+        |s| {
+            s.published.human_snapshot >= refused.published.human_snapshot + 30
+                && s.published.human_gesture > refused.published.human_gesture
+        },
+    );
+    assert_eq!(after.human_snapshot.refused.get("sequence_backwards"), None);
+    let a = answer_until(
+        &mut remote,
+        human_object(3),
+        Duration::from_secs(5),
+        "fresh answers after the jump",
+        is_ok,
+    );
+    assert_eq!(a.robot_track_id, robot_id(3));
+    headset.stop();
+}
+
+/// The most memory a process has held, kB (VmHWM).
+fn peak_rss_kb(pid: u32) -> u64 {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+        .unwrap()
+}
+
+/// Issue 40, case 4: Zenoh reassembled a 100 MB put in full (the bridge's
+/// memory rose from 38 to 73 MB) before the bridge counted it
+/// `too_large`. Its receive limit is now the bridge's size limit: the put
+/// is dropped fragment by fragment and never reaches the intake, while a
+/// payload just over the limit is still refused and counted.
+#[test]
+fn a_put_far_over_the_size_limit_is_dropped_before_it_is_buffered() {
+    let mut robot = Robot::new("huge", "max_message_bytes = 65536\n", 0);
+    robot.start_robot_side();
+    robot.start_bridge();
+    let headset = Headset::start(&robot, Format::Json, HEADSET, 1);
+    let mut remote = robot.remote(Format::Json);
+    answer_until(
+        &mut remote,
+        human_object(4),
+        READY,
+        "first ok answer",
+        is_ok,
+    );
+    let stats = BridgeStatsReader::new(&robot);
+    stats.until(Duration::from_secs(10), "bridge statistics", |s| {
+        s.published.human_snapshot > 0
+    });
+    let pid = robot.h.pid("bridge");
+    let before = peak_rss_kb(pid);
+
+    let attacker = robot.session();
+    let publisher = attacker
+        .declare_publisher(robot.keys().human_snapshot())
+        .encoding(Message::Snapshot.encoding(Format::Json))
+        .congestion_control(zenoh::qos::CongestionControl::Block)
+        .wait()
+        .unwrap();
+    publisher.put(vec![b' '; 100 << 20]).wait().unwrap();
+    publisher.put(vec![b' '; 70_000]).wait().unwrap();
+    // Delivered in order after both: once it is counted, so is all before.
+    publisher.put(b"{".to_vec()).wait().unwrap();
+    let after = stats.until(Duration::from_secs(30), "the marker counted", |s| {
+        s.human_snapshot.refused.get("malformed") == Some(&1)
+    });
+    assert_eq!(
+        after.human_snapshot.refused.get("too_large"),
+        Some(&1),
+        "only the payload just over the limit reaches the intake: {:?}",
+        after.human_snapshot.refused
+    );
+    let grown_kb = peak_rss_kb(pid).saturating_sub(before);
+    assert!(
+        grown_kb < 20_000,
+        "the bridge's peak memory grew {grown_kb} kB"
+    );
+    let a = answer_until(
+        &mut remote,
+        human_object(4),
+        Duration::from_secs(10),
+        "fresh answers after the put",
+        is_ok,
+    );
+    assert_eq!(a.robot_track_id, robot_id(4));
+    headset.stop();
+}
+
 #[test]
 fn two_robots_on_one_machine_are_addressed_by_their_prefixes() {
     let mut robots = [Robot::new("fleet1", "", 0), Robot::new("fleet2", "", 5000)];

@@ -13,7 +13,7 @@ use support::table::table_harness;
 use vref_inject::{robot_id, valid_objects};
 use vref_scene::Side;
 use vref_wire::ipc::ReferenceClient;
-use vref_wire::{AnswerStatus, ObjectEntry};
+use vref_wire::{AnswerStatus, ObjectEntry, ReferenceAnswer};
 
 fn human_objects() -> Vec<ObjectEntry> {
     valid_objects(Side::Human)
@@ -275,4 +275,63 @@ fn the_demo_answers_every_query_and_reports_its_accuracy() {
         "{summary}"
     );
     assert!(summary["rtt_p99_us"].as_u64().unwrap() >= summary["rtt_p50_us"].as_u64().unwrap());
+}
+
+/// Issue 40, case 1: both feeds replaced by a source whose features are
+/// shorter (48 values to 6 in the report). Each side's first new snapshot
+/// used to be refused against the other side's old one, for as long as
+/// the matcher ran; now the second side's agreement lets both in. The
+/// grace is set out of reach, so that only the agreement can.
+#[test]
+fn feeds_replaced_by_a_source_with_another_feature_length_are_answered() {
+    let (mut h, ipc, source) =
+        support::table::table_harness_with("fdim", "feature_dim_grace_ms = 600000\n", "");
+    start_all(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    wait_ready(&mut client, &h);
+    for feed in ["perception", "gesture"] {
+        h.signal(feed, Signal::SIGINT);
+        h.wait(feed, Duration::from_secs(10));
+    }
+    eventually(Duration::from_secs(10), "stale without feeds", || {
+        (status_of(&mut client, 2)? == AnswerStatus::Stale).then_some(())
+    });
+    // The same table with the features cut to their first four values.
+    let mut line: serde_json::Value =
+        serde_json::from_str(support::table::dataset().trim()).unwrap();
+    for side in ["robot", "human"] {
+        for object in line[side]["objects"].as_array_mut().unwrap() {
+            object["feature"].as_array_mut().unwrap().truncate(4);
+        }
+    }
+    let shorter = h.dir.path().join("table-4.jsonl");
+    std::fs::write(&shorter, format!("{line}\n")).unwrap();
+    let shorter = format!("dataset:{}", shorter.display());
+    // The robot's new feed alone: refused against the human side's old
+    // snapshot, and the stale answers say so.
+    h.start(
+        "perception",
+        "vref-perception-feed",
+        &["--source", &shorter, "--rate", "50"],
+    );
+    let a = eventually(Duration::from_secs(10), "a stale answer naming why", || {
+        let a = client.by_human_object(2, Duration::from_millis(300)).ok()?;
+        (a.status() == AnswerStatus::Stale && a.flags & ReferenceAnswer::FLAG_REFUSAL != 0)
+            .then_some(a)
+    });
+    assert_eq!(
+        a.refusal,
+        vref_reference::RejectReason::FeatureDimOtherSide as u32
+    );
+    h.start(
+        "gesture",
+        "vref-gesture-feed",
+        &["--source", &shorter, "--rate", "50"],
+    );
+    let a = eventually(Duration::from_secs(15), "ok with 4 feature values", || {
+        let a = client.by_human_object(2, Duration::from_millis(300)).ok()?;
+        (a.status() == AnswerStatus::Ok).then_some(a)
+    });
+    assert_eq!(a.robot_track_id, robot_id(2));
+    assert!(h.log("matcher").contains("feature_dim_other_side"));
 }

@@ -341,6 +341,75 @@ fn an_mcap_recording_reads_back_with_the_mcap_crate_and_replays_to_the_same_answ
     }
 }
 
+/// A child killed with SIGKILL when dropped, so that a failed test leaves
+/// no recorder running.
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        self.0.kill().ok();
+        self.0.wait().ok();
+    }
+}
+
+/// Issue 40, case 3: `vref record` killed with -9 leaves `F.mcap.tmp`,
+/// which replay used to refuse whole ("Chunk ended in the middle of a
+/// record"). Now every chunk finished before the kill is in the file, and
+/// replay publishes them, saying where the file stops.
+#[test]
+fn a_recording_killed_with_sigkill_replays_its_finished_chunks() {
+    let (mut h, ipc, source) = table_harness("kill9");
+    start_system(&mut h, &source);
+    let mut client = ReferenceClient::connect(&ipc, "test-client").unwrap();
+    answers(&mut client);
+    let out = h.dir.path().join("table.mcap");
+    let partial = h.dir.path().join("table.mcap.tmp");
+    let mut recorder = Killed(
+        Command::new(binary("vref"))
+            .args([
+                "record",
+                "--out",
+                out.to_str().unwrap(),
+                "--duration",
+                "120s",
+            ])
+            .args(["--config", h.config_arg()])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    eventually(
+        Duration::from_secs(30),
+        "finished chunks in the file",
+        || {
+            let bytes = std::fs::read(&partial).ok()?;
+            let read = vref_record::read_recording(&bytes).ok()?;
+            (read.frames.len() >= 100).then_some(())
+        },
+    );
+    recorder.0.kill().unwrap();
+    recorder.0.wait().unwrap();
+    assert!(!out.exists());
+    let bytes = std::fs::read(&partial).unwrap();
+    // What replay used to read it with still refuses it.
+    assert!(vref_record::read_frames(&bytes).is_err());
+
+    stop_feeds(&mut h);
+    eventually(Duration::from_secs(5), "stale without feeds", || {
+        let a = client.by_human_object(1, Duration::from_millis(300)).ok()?;
+        (a.status() == AnswerStatus::Stale).then_some(())
+    });
+    start_feeds(&mut h, &format!("recording:{}", partial.display()));
+    let replayed = answers(&mut client);
+    for a in &replayed {
+        assert_eq!(a.robot_track_id, robot_id(a.human_object_id));
+    }
+    let log = h.log("perception");
+    assert!(log.contains("the file is cut short"), "{log}");
+}
+
 /// Python's `mcap` package (a reader vref did not write), if installed:
 /// the `topics` and schema names, and as many messages as the Rust reader
 /// counts. Skipped, saying so, where it is not installed. `VREF_PYTHON`

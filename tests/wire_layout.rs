@@ -110,3 +110,56 @@ fn docs_wire_md_shows_every_type_as_printed() {
         }
     }
 }
+
+/// Issue 40, case 9: a client written from the layout alone had to guess
+/// iceoryx2's file prefix, the grammar of field types and when to notify.
+/// The schema record states them, and every field's type follows the
+/// stated grammar (a record named in `[T; N]` is one of the file's types).
+#[test]
+fn the_layout_states_the_prefix_the_type_grammar_and_the_event_rules() {
+    let printed = vref(&["wire-layout", "--json"], Duration::from_secs(30))
+        .ok()
+        .stdout;
+    let lines = json_lines(&printed);
+    let schema = &lines[0];
+    assert_eq!(schema["iceoryx2_prefix"], "vref_");
+    let grammar = schema["type_grammar"].as_str().unwrap();
+    assert!(grammar.contains("[T; N]"), "{grammar}");
+    let rules: Vec<&str> = schema["event_rules"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r.as_str().unwrap())
+        .collect();
+    for needed in ["request_event", "notifier_dead_event", "EventId", "iox2_"] {
+        assert!(
+            rules.iter().any(|r| r.contains(needed)),
+            "{needed}: {rules:?}"
+        );
+    }
+    let types: Vec<&serde_json::Value> = lines.iter().filter(|l| l["record"] == "type").collect();
+    let names: Vec<&str> = types.iter().map(|t| t["name"].as_str().unwrap()).collect();
+    let base = ["u8", "u16", "u32", "u64", "i32", "i64", "f32", "f64"];
+    for t in &types {
+        for field in t["fields"].as_array().unwrap() {
+            let ty = field["type"].as_str().unwrap();
+            let element = match ty.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
+                Some(inner) => {
+                    let (element, count) = inner.split_once("; ").unwrap();
+                    assert!(count.parse::<usize>().is_ok(), "{ty}");
+                    element
+                }
+                None => ty,
+            };
+            assert!(
+                base.contains(&element) || names.contains(&element),
+                "{}.{}: {ty} is outside the stated grammar",
+                t["name"],
+                field["name"]
+            );
+        }
+    }
+    for service in lines.iter().filter(|l| l["pattern"] == "event") {
+        assert!(service["qos"]["notifier_dead_event"].is_u64(), "{service}");
+    }
+}

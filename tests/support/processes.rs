@@ -123,6 +123,11 @@ impl Harness {
         }
     }
 
+    /// The process id of `name`.
+    pub fn pid(&self, name: &str) -> u32 {
+        self.children[self.index(name)].1.id()
+    }
+
     /// Whether `name` has not exited.
     pub fn running(&mut self, name: &str) -> bool {
         let index = self.index(name);

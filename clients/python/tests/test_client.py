@@ -64,6 +64,15 @@ def test_every_field_is_decoded_from_its_own_bytes() -> None:
     assert not answer.ok
 
 
+def test_a_stale_answer_names_the_refusal_behind_it() -> None:
+    a = wire.ReferenceAnswer()
+    a.status = wire.ANSWER_STATUSES["stale"]
+    a.refusal = wire.REJECT_REASONS["feature_dim_other_side"]
+    assert Answer.from_wire(a).refusal is None, "without the flag it says nothing"
+    a.flags = wire.ANSWER_FLAGS["refusal"]
+    assert Answer.from_wire(a).refusal == "feature_dim_other_side"
+
+
 def test_unknown_status_reads_as_bad_request_and_counts_are_bounded() -> None:
     a = wire.ReferenceAnswer()
     a.status = 99

@@ -258,6 +258,9 @@ def test_a_malformed_publish_is_refused_before_it_reaches_the_wire(system: Syste
             "infinite up": {"up": (0.0, np.inf, 0.0)},
             "up beyond float32": {"up": (1e39, 0.0, 0.0)},
             "up of two": {"up": (0.0, 1.0)},
+            "string positions": {"positions": [["0", "0", "1"]] * 6},
+            "boolean features": {"features": [[True, False]] * 6},
+            "lone surrogate frame": {"frame": "cam\udc80"},
         }
         for what, change in cases.items():
             args: dict[str, Any] = {"track_ids": ids, "positions": positions, "features": features}
@@ -277,6 +280,14 @@ def test_a_malformed_publish_is_refused_before_it_reaches_the_wire(system: Syste
         # ...and a good snapshot is counted, so the check could fail.
         assert robot.publish(ids, positions, features) == 1
         wait_stats(stats, "the good snapshot counted", lambda s: s.snapshots_accepted["robot"] == 1)
+        # Issue 40, case 8: small ids beside 2**64-1 in a list are ids, not
+        # "dtype float64"; a sequence past 2**64-1 is refused, not wrapped.
+        mixed = [int(i) for i in ids[:-1]] + [2**64 - 1]
+        assert robot.publish(mixed, positions, features) == 2
+        robot.sequence = 2**64 - 1
+        with pytest.raises(ValueError, match="sequence"):
+            robot.publish(ids, positions, features)
+        assert robot.sequence == 2**64 - 1
 
 
 def test_no_matcher_and_a_dead_one_give_clear_errors(system: System) -> None:

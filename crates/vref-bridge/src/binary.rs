@@ -152,7 +152,7 @@ pub fn encode_answer(a: &ReferenceAnswer) -> Vec<u8> {
         w.f32s(&[alt.confidence]);
         w.u32s(&[alt.reserved]);
     }
-    w.u32s(&[a.flags, a.reserved]);
+    w.u32s(&[a.flags, a.refusal]);
     w.0
 }
 
@@ -181,7 +181,7 @@ pub fn decode_answer(bytes: &[u8]) -> Result<ReferenceAnswer, CodecError> {
             reserved: r.u32(),
         }),
         flags: r.u32(),
-        reserved: r.u32(),
+        refusal: r.u32(),
     })
 }
 

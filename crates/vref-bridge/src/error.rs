@@ -25,6 +25,8 @@ pub enum CodecError {
     FeatureLengths { id: u64, len: usize, first: usize },
     #[error("unknown answer status `{0}`")]
     Status(String),
+    #[error("unknown refusal `{0}` (not one of the matcher's reject reasons)")]
+    Refusal(String),
     #[error("{what} of {len} entries exceeds the wire's {max}")]
     TooMany {
         what: &'static str,

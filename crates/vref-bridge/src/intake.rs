@@ -7,12 +7,17 @@
 //!    well-formed;
 //! 3. session: one headset at a time. Another session is refused while the
 //!    current one is live, and takes over once it has been silent for the
-//!    takeover time (a restarted headset); within a session, sequences only
-//!    grow (a replay or a duplicate is refused);
-//! 4. rate: at most the configured rate per stream (a token bucket), spent
+//!    takeover time (a restarted headset);
+//! 4. validation: vref-wire's, the matcher's own checks;
+//! 5. order: the matcher's own sequence rules ([`vref_reference::Sequencer`]):
+//!    within a session a sequence grows, by no more than the headset could
+//!    have counted, and a session whose messages have all been refused as
+//!    out of order for the takeover time is taken again from its next one.
+//!    One message with a huge sequence number therefore never locks the
+//!    headset out;
+//! 6. rate: at most the configured rate per stream (a token bucket), spent
 //!    only by the current session, so a flood from elsewhere never takes
-//!    the headset's share;
-//! 5. validation: vref-wire's, the matcher's own checks.
+//!    the headset's share.
 //!
 //! A message that passes is restamped as the bridge's own publication: the
 //! bridge's session (new at every start, so the matcher sees a restarted
@@ -23,7 +28,7 @@ use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
-use vref_reference::RejectReason;
+use vref_reference::{RejectReason, Rejected, Sequencer};
 use vref_scene::{Limits, Side};
 use vref_wire::{ObjectEntry, PointingRay, ReferenceQuery, SnapshotHeader, WireError};
 
@@ -40,12 +45,10 @@ pub enum Refusal {
     Codec(#[from] CodecError),
     #[error(transparent)]
     Invalid(#[from] WireError),
-    #[error("session {session}: sequence {sequence} after {last}")]
-    SequenceBackwards {
-        session: u64,
-        sequence: u64,
-        last: u64,
-    },
+    /// Out of order within the headset's session (backwards, or a jump
+    /// further than it could have counted): the matcher's reasons.
+    #[error("session {session}: {refused}")]
+    Order { session: u64, refused: Rejected },
     #[error("session {session} while session {current} is live (one headset at a time)")]
     OtherSession { session: u64, current: u64 },
     #[error("over the rate limit")]
@@ -61,7 +64,7 @@ impl Refusal {
             Refusal::Codec(CodecError::Encoding { .. }) => "encoding",
             Refusal::Codec(_) => "malformed",
             Refusal::Invalid(e) => RejectReason::of(e).name(),
-            Refusal::SequenceBackwards { .. } => RejectReason::SequenceBackwards.name(),
+            Refusal::Order { refused, .. } => refused.reason.name(),
             Refusal::OtherSession { .. } => "other_session",
             Refusal::RateLimited => "rate_limited",
         }
@@ -98,68 +101,69 @@ impl StreamCounters {
 #[derive(Debug, Clone, Copy)]
 struct Current {
     session: u64,
-    sequence: u64,
     seen: Instant,
 }
+
+/// The network carries no publisher identity the way iceoryx2's port id
+/// does: the session is the headset's, so all of a stream is one origin.
+const HEADSET: vref_reference::Origin = 0;
 
 /// One headset stream (snapshots or rays).
 #[derive(Debug)]
 struct Stream {
     rate: RateLimit,
     current: Option<Current>,
+    order: Sequencer,
     /// The bridge's own sequence of what it passed on.
     sequence: u64,
     counters: StreamCounters,
 }
 
 impl Stream {
-    fn new(rate_hz: f64) -> Self {
+    fn new(rate_hz: f64, resync_after: Duration) -> Self {
         Self {
             rate: RateLimit::new(rate_hz),
             current: None,
+            order: Sequencer::new(resync_after),
             sequence: 0,
             counters: StreamCounters::default(),
         }
     }
 
-    /// Checks 3 and 4.
-    fn admit(
-        &mut self,
-        session: u64,
-        sequence: u64,
-        takeover: Duration,
-        now: Instant,
-    ) -> Result<(), Refusal> {
-        if let Some(current) = self.current {
-            if current.session == session {
-                if sequence <= current.sequence {
-                    return Err(Refusal::SequenceBackwards {
-                        session,
-                        sequence,
-                        last: current.sequence,
-                    });
-                }
-            } else if now.saturating_duration_since(current.seen) < takeover {
-                return Err(Refusal::OtherSession {
+    /// Check 3.
+    fn session(&self, session: u64, takeover: Duration, now: Instant) -> Result<(), Refusal> {
+        match self.current {
+            Some(current)
+                if current.session != session
+                    && now.saturating_duration_since(current.seen) < takeover =>
+            {
+                Err(Refusal::OtherSession {
                     session,
                     current: current.session,
-                });
+                })
             }
+            _ => Ok(()),
         }
+    }
+
+    /// Checks 5 and 6, after validation: only a message that would
+    /// otherwise pass counts towards its session's resynchronisation, and
+    /// only one in order spends the rate.
+    fn admit(&mut self, session: u64, sequence: u64, now: Instant) -> Result<(), Refusal> {
+        self.order
+            .place(HEADSET, session, sequence, now)
+            .map_err(|refused| Refusal::Order { session, refused })?;
         if !self.rate.admit(now) {
             return Err(Refusal::RateLimited);
         }
         Ok(())
     }
 
-    /// After validation: the message is the session's latest, and gets the
-    /// bridge's next sequence.
+    /// The message is the session's latest, and gets the bridge's next
+    /// sequence.
     fn commit(&mut self, session: u64, sequence: u64, now: Instant) -> u64 {
-        self.current = Some(Current {
-            session,
-            sequence,
-            seen: now,
-        });
+        self.current = Some(Current { session, seen: now });
+        self.order.record(HEADSET, session, sequence, now);
         self.sequence += 1;
         self.sequence
     }
@@ -188,8 +192,8 @@ impl HeadsetIntake {
     /// `session` is the bridge's own, new at every start.
     pub fn new(limits: IntakeLimits, session: u64) -> Self {
         Self {
-            snapshots: Stream::new(limits.max_snapshot_rate_hz),
-            rays: Stream::new(limits.max_gesture_rate_hz),
+            snapshots: Stream::new(limits.max_snapshot_rate_hz, limits.session_takeover),
+            rays: Stream::new(limits.max_gesture_rate_hz, limits.session_takeover),
             limits,
             session,
         }
@@ -224,8 +228,9 @@ impl HeadsetIntake {
         };
         let (session, sequence) = (header.session, header.sequence);
         self.snapshots
-            .admit(session, sequence, self.limits.session_takeover, now)?;
+            .session(session, self.limits.session_takeover, now)?;
         vref_wire::validate_snapshot(&header, &entries, Side::Human, &self.limits.scene)?;
+        self.snapshots.admit(session, sequence, now)?;
         header.session = self.session;
         header.sequence = self.snapshots.commit(session, sequence, now);
         header.timestamp_ns = now_ns;
@@ -259,8 +264,9 @@ impl HeadsetIntake {
         };
         let (session, sequence) = (ray.session, ray.sequence);
         self.rays
-            .admit(session, sequence, self.limits.session_takeover, now)?;
+            .session(session, self.limits.session_takeover, now)?;
         ray.validate()?;
+        self.rays.admit(session, sequence, now)?;
         ray.session = self.session;
         ray.sequence = self.rays.commit(session, sequence, now);
         ray.timestamp_ns = now_ns;
@@ -606,6 +612,75 @@ mod tests {
                 .name(),
             "other_session"
         );
+    }
+
+    /// Issue 40, case 2: before the bridge followed the matcher's
+    /// sequence rules, this one message was taken as the session's latest
+    /// and every later real one refused as `sequence_backwards`.
+    #[test]
+    fn one_message_with_a_huge_sequence_does_not_lock_the_headset_out() {
+        let mut intake = intake();
+        let t0 = Instant::now();
+        let step = Duration::from_millis(33);
+        intake
+            .snapshot(format::JSON, &json_snapshot(1, 1), t0, 0)
+            .unwrap();
+        let far = intake
+            .snapshot(format::JSON, &json_snapshot(1, u64::MAX), t0 + step, 0)
+            .unwrap_err();
+        assert_eq!(far.name(), "sequence_jump", "{far}");
+        for sequence in 2..10 {
+            let at = t0 + step * sequence as u32;
+            intake
+                .snapshot(format::JSON, &json_snapshot(1, sequence), at, 0)
+                .unwrap();
+        }
+        let ray = |sequence| {
+            json::encode_ray(&PointingRay {
+                session: 1,
+                sequence,
+                timestamp_ns: 0,
+                origin: [0.0; 3],
+                direction: [0.0, 0.0, 1.0],
+                cone_half_angle: 0.1,
+                confidence: 0.9,
+                schema_version: SCHEMA_VERSION,
+                reserved: 0,
+            })
+        };
+        intake.ray(format::JSON, &ray(1), t0, 0).unwrap();
+        let far = intake.ray(format::JSON, &ray(u64::MAX), t0, 0).unwrap_err();
+        assert_eq!(far.name(), "sequence_jump");
+        intake.ray(format::JSON, &ray(2), t0 + step, 0).unwrap();
+    }
+
+    /// A sender in the headset's session that got ahead of it (a flood
+    /// within the jump limit) locks it out for the takeover time at most.
+    #[test]
+    fn a_session_refused_as_out_of_order_for_the_takeover_time_is_taken_again() {
+        let mut intake = intake();
+        let t0 = Instant::now();
+        intake
+            .snapshot(format::JSON, &json_snapshot(1, 1), t0, 0)
+            .unwrap();
+        let ahead = t0 + Duration::from_millis(10);
+        intake
+            .snapshot(format::JSON, &json_snapshot(1, 900), ahead, 0)
+            .unwrap();
+        let refused = |sequence: u64, ms: u64, intake: &mut HeadsetIntake| {
+            let at = ahead + Duration::from_millis(ms);
+            intake
+                .snapshot(format::JSON, &json_snapshot(1, sequence), at, 0)
+                .map(|(h, _)| h.sequence)
+        };
+        assert_eq!(
+            refused(2, 100, &mut intake).unwrap_err().name(),
+            "sequence_backwards"
+        );
+        assert!(refused(3, 400, &mut intake).is_err());
+        // 500 ms (the takeover time) after the first refusal.
+        assert_eq!(refused(4, 600, &mut intake), Ok(3));
+        assert_eq!(refused(5, 650, &mut intake), Ok(4));
     }
 
     #[test]

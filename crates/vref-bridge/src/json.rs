@@ -138,6 +138,10 @@ pub struct AnswerJson {
     /// A real solve made the answering solution (else it was carried over
     /// unchanged); answers never wait for a solve.
     pub solved: bool,
+    /// Why a `stale` or `not_ready` answer has nothing fresher: the
+    /// matcher's reject reason of the snapshot it last refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refusal: Option<String>,
 }
 
 /// The matcher's statistics (`<prefix>/matcher/stats`).
@@ -401,6 +405,10 @@ impl From<&ReferenceAnswer> for AnswerJson {
                 .then_some(a.human_frame_position),
             human_position_from_motion: flag(ReferenceAnswer::FLAG_HUMAN_POSITION_FROM_MOTION),
             solved: flag(ReferenceAnswer::FLAG_SOLVED),
+            refusal: flag(ReferenceAnswer::FLAG_REFUSAL)
+                .then(|| RejectReason::ALL.get(a.refusal as usize))
+                .flatten()
+                .map(|r| r.name().to_owned()),
         }
     }
 }
@@ -447,6 +455,14 @@ impl AnswerJson {
         }
         if self.human_position_from_motion {
             answer.flags |= ReferenceAnswer::FLAG_HUMAN_POSITION_FROM_MOTION;
+        }
+        if let Some(name) = &self.refusal {
+            let reason = RejectReason::ALL
+                .iter()
+                .position(|r| r.name() == name)
+                .ok_or_else(|| CodecError::Refusal(name.clone()))?;
+            answer.refusal = reason as u32;
+            answer.flags |= ReferenceAnswer::FLAG_REFUSAL;
         }
         Ok(answer)
     }
@@ -742,6 +758,17 @@ mod tests {
             decode_answer(lost.as_bytes()),
             Err(CodecError::Status("lost".to_owned()))
         );
+        // A stale answer that names the refusal behind it, by name.
+        a.refusal = RejectReason::FeatureDimOtherSide as u32;
+        a.flags = ReferenceAnswer::FLAG_REFUSAL;
+        a.human_frame_position = [0.0; 3];
+        let text = encode_answer(&a);
+        let value: serde_json::Value = serde_json::from_slice(&text).unwrap();
+        assert_eq!(value["refusal"], "feature_dim_other_side");
+        assert_eq!(decode_answer(&text), Ok(a));
+        a.flags = 0;
+        let value: serde_json::Value = serde_json::from_slice(&encode_answer(&a)).unwrap();
+        assert!(value.get("refusal").is_none());
     }
 
     #[test]

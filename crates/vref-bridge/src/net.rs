@@ -42,14 +42,32 @@ fn json_list(items: &[String]) -> String {
     serde_json::to_string(items).unwrap_or_else(|_| "[]".to_owned())
 }
 
-/// The bridge's own session, as `[bridge]` says.
+/// Room beside a payload in one Zenoh message: its key, encoding and
+/// headers (a prefix is at most a few hundred bytes).
+pub const ZENOH_OVERHEAD_BYTES: usize = 16 * 1024;
+
+/// The bridge's own session, as `[bridge]` says. Zenoh reassembles a
+/// fragmented message in full before handing it over, up to 1 GiB by
+/// default: the bridge's receive limit is its `max_message_bytes` (plus
+/// the message's own overhead), so a larger put is dropped by Zenoh
+/// fragment by fragment instead of being buffered and refused after.
 pub fn open_bridge_session(settings: &BridgeSettings) -> Result<zenoh::Session, NetError> {
-    let config = zenoh_config(
+    let mut config = zenoh_config(
         settings.mode,
         &settings.listen,
         &settings.connect,
         settings.multicast_scouting,
     )?;
+    let key = "transport/link/rx/max_message_size";
+    let limit = settings
+        .max_message_bytes
+        .saturating_add(ZENOH_OVERHEAD_BYTES);
+    config
+        .insert_json5(key, &limit.to_string())
+        .map_err(|e| NetError::Config {
+            key: key.to_owned(),
+            message: e.to_string(),
+        })?;
     zenoh::open(config)
         .wait()
         .map_err(|e| zenoh_err("opening the Zenoh session", e))

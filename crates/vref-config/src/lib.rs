@@ -22,6 +22,13 @@ pub use bridge::{
 pub const CONFIG_ENV: &str = "VREF_CONFIG";
 /// Where a program looks when neither `--config` nor the variable is given.
 pub const DEFAULT_PATH: &str = "config/vref.toml";
+/// Longest `[ipc] prefix`: iceoryx2 names its files and sockets with it.
+pub const MAX_IPC_PREFIX: usize = 32;
+/// Most bytes of `[ipc] root_path` and `prefix` together: iceoryx2's
+/// event sockets live under the root path, and a Unix socket's path has
+/// room for 107 bytes (measured with iceoryx2 0.10: 69 works, 71 fails
+/// with `ResourceCreationFailed`).
+pub const MAX_ROOT_PATH_AND_PREFIX: usize = 69;
 
 /// Why a configuration could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -233,6 +240,12 @@ impl Config {
                 "stale_after_ms and cleanup_interval_ms must be at least 1".to_owned(),
             ));
         }
+        if matcher.feature_dim_grace_ms == 0 {
+            return Err(section(
+                "matcher",
+                "feature_dim_grace_ms must be at least 1: at 0 two live feeds of different feature lengths would replace each other's snapshots on every message".to_owned(),
+            ));
+        }
         if matcher.ray_max_age_ms == 0 {
             return Err(section(
                 "matcher",
@@ -300,6 +313,12 @@ impl Config {
                 "namespace and prefix must not be empty".to_owned(),
             ));
         }
+        check_ipc_prefix(&ipc.prefix)
+            .map_err(|e| section("ipc", format!("prefix `{}`: {e}", ipc.prefix)))?;
+        if let Some(root) = &ipc.root_path {
+            check_root_path(root, &ipc.prefix)
+                .map_err(|e| section("ipc", format!("root_path `{}`: {e}", root.display())))?;
+        }
         if ipc.initial_objects == 0 || ipc.max_clients == 0 || ipc.max_subscribers == 0 {
             return Err(section(
                 "ipc",
@@ -307,6 +326,10 @@ impl Config {
             ));
         }
         let feeds = &self.feeds;
+        feeds
+            .preset
+            .parse::<vref_sim::Preset>()
+            .map_err(|e| section("feeds", format!("preset: {e}")))?;
         for (name, rate) in [
             ("snapshot_rate_hz", feeds.snapshot_rate_hz),
             ("gesture_rate_hz", feeds.gesture_rate_hz),
@@ -322,4 +345,39 @@ impl Config {
             .check()
             .map_err(|message| section("bridge", message))
     }
+}
+
+/// An iceoryx2 file prefix: part of a file name, so no `/`.
+fn check_ipc_prefix(prefix: &str) -> Result<(), String> {
+    if prefix.len() > MAX_IPC_PREFIX {
+        return Err(format!("{} bytes, at most {MAX_IPC_PREFIX}", prefix.len()));
+    }
+    match prefix
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.')))
+    {
+        Some(c) => Err(format!(
+            "`{c}` is not allowed (letters, digits, `-`, `_` and `.` only: it starts file names)"
+        )),
+        None => Ok(()),
+    }
+}
+
+/// An iceoryx2 root path: absolute (a relative one would put iceoryx2's
+/// files wherever each program was started), and short enough for its
+/// sockets.
+fn check_root_path(root: &Path, prefix: &str) -> Result<(), String> {
+    if !root.is_absolute() {
+        return Err(
+            "must be absolute (a relative path is taken from each program's working directory)"
+                .to_owned(),
+        );
+    }
+    let len = root.as_os_str().len() + prefix.len();
+    if len > MAX_ROOT_PATH_AND_PREFIX {
+        return Err(format!(
+            "with the prefix {len} bytes, at most {MAX_ROOT_PATH_AND_PREFIX}: iceoryx2's sockets under it would not fit a Unix socket path"
+        ));
+    }
+    Ok(())
 }

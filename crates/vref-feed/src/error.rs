@@ -64,8 +64,13 @@ pub enum SetupError {
         #[source]
         source: vref_record::RecordError,
     },
-    #[error("recording {path} holds no {what}")]
-    EmptyRecording { path: PathBuf, what: &'static str },
+    #[error("recording {path} holds no {what}{}", cut_note(.cut))]
+    EmptyRecording {
+        path: PathBuf,
+        what: &'static str,
+        /// Where the file stopped, if it was cut short.
+        cut: Option<vref_record::Cut>,
+    },
     #[error("{origin}")]
     Entry {
         origin: String,
@@ -90,4 +95,8 @@ pub enum RunError {
     Ipc(#[from] IpcError),
     #[error("converting a snapshot")]
     Entry(#[from] EntryError),
+}
+
+fn cut_note(cut: &Option<vref_record::Cut>) -> String {
+    cut.as_ref().map(|c| format!(" ({c})")).unwrap_or_default()
 }

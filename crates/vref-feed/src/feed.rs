@@ -124,12 +124,15 @@ impl Feed {
             SourceSpec::Recording(path) => {
                 let gap_ns = (1e9 / rate_hz).round() as u64;
                 let replay = Replay::load(path, side, role.points(), gap_ns)?;
-                let description = format!(
+                let mut description = format!(
                     "recording {} ({} frames, {:.1} s per pass)",
                     path.display(),
                     replay.frames(),
                     replay.span_s()
                 );
+                if let Some(cut) = replay.cut() {
+                    description.push_str(&format!("; {cut}"));
+                }
                 (Source::Replay(replay), description)
             }
         };

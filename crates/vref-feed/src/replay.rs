@@ -1,9 +1,11 @@
 //! A recording as a feed: this feed's frames, with their original spacing,
-//! over and over. Either format (MCAP or vref's own) is read whole.
+//! over and over. Either format (MCAP or vref's own) is read whole, or up
+//! to where it was cut short (a recorder killed): what is complete is
+//! replayed, and where it stopped is said.
 
 use std::path::Path;
 
-use vref_record::{Frame, RecordedSnapshot, read_frames};
+use vref_record::{Cut, Frame, RecordedSnapshot, read_recording};
 use vref_scene::Side;
 use vref_wire::ObjectEntry;
 
@@ -22,6 +24,7 @@ pub(crate) struct Replay {
     /// When the current pass started.
     anchor_ns: Option<u64>,
     next: usize,
+    cut: Option<Cut>,
 }
 
 #[derive(Debug)]
@@ -47,12 +50,15 @@ impl Replay {
             path: path.to_owned(),
             source,
         })?;
-        let recorded = read_frames(&bytes).map_err(|source| SetupError::Recording {
+        let recorded = read_recording(&bytes).map_err(|source| SetupError::Recording {
             path: path.to_owned(),
             source,
         })?;
+        if let Some(cut) = &recorded.cut {
+            tracing::warn!(path = %path.display(), "{cut}; replaying what is complete");
+        }
         let mut frames: Vec<(u64, Item)> = Vec::new();
-        for (index, frame) in recorded.into_iter().enumerate() {
+        for (index, frame) in recorded.frames.into_iter().enumerate() {
             let item = match frame {
                 Frame::Snapshot(s) if s.side() == side => {
                     let item = snapshot_item(&s).map_err(|source| SetupError::Entry {
@@ -77,6 +83,7 @@ impl Replay {
         if frames.is_empty() {
             return Err(SetupError::EmptyRecording {
                 path: path.to_owned(),
+                cut: recorded.cut,
                 what: match (side, gestures) {
                     (Side::Robot, _) => "robot snapshots",
                     (Side::Human, false) => "human snapshots",
@@ -104,7 +111,13 @@ impl Replay {
             span_ns: last + mean_gap.max(1),
             anchor_ns: None,
             next: 0,
+            cut: recorded.cut,
         })
+    }
+
+    /// Where the file was cut short, if it was.
+    pub(crate) fn cut(&self) -> Option<&Cut> {
+        self.cut.as_ref()
     }
 
     pub(crate) fn frames(&self) -> usize {

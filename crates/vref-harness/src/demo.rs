@@ -21,7 +21,9 @@ use crate::{Finished, RunError, now_s};
 const QUERY_TIMEOUT: Duration = Duration::from_secs(1);
 /// BOP source: no query in a slot's first moments, while the feeds'
 /// snapshots of a new scene reach the matcher (one snapshot period at
-/// 30 Hz, and its solve, are well within this).
+/// 30 Hz, and its solve, are well within this), and at most half a slot:
+/// with a slot no longer than this (`--hold 1s`: two slots of 0.5 s) the
+/// demo would never ask, and report the services as not answering.
 const SETTLE_S: f64 = 0.5;
 
 /// What `vref demo` was asked.
@@ -76,7 +78,8 @@ impl Truth {
                 })
             }
             Truth::Bop(world) => {
-                let g = world.gesture(t).filter(|g| t - g.since_s >= SETTLE_S)?;
+                let settle_s = SETTLE_S.min(0.5 * world.slot_s());
+                let g = world.gesture(t).filter(|g| t - g.since_s >= settle_s)?;
                 Some(Pointing {
                     human_id: g.human_id,
                     origin: g.origin.map(|v| v as f32),

@@ -11,7 +11,9 @@ pub enum FrameError {
     },
     #[error("intrinsics: not a pinhole matrix ({message})")]
     NotPinhole { message: String },
-    #[error("depth scale is {value} m per unit, but must be positive and finite")]
+    #[error(
+        "depth scale (BOP: depth_scale / 1000) is {value:e} m per unit, but must be positive and put the deepest reading (65535 units) within 1000 m"
+    )]
     BadDepthScale { value: f64 },
     #[error("the depth image is {found_width}x{found_height}, the colour image {width}x{height}")]
     DepthSize {
@@ -42,6 +44,13 @@ pub enum LoadError {
         path: PathBuf,
         #[source]
         source: std::io::Error,
+    },
+    #[error("{path}: {width}x{height} pixels, more than the {max_pixels} an image may have")]
+    TooLarge {
+        path: PathBuf,
+        width: u32,
+        height: u32,
+        max_pixels: u64,
     },
     #[error("cannot decode {path}")]
     Decode {

@@ -7,6 +7,11 @@ use crate::{FrameError, Intrinsics};
 /// 16-bit depth readings along the optical axis (0: no reading).
 pub type DepthPixels = ImageBuffer<Luma<u16>, Vec<u16>>;
 
+/// Farthest a depth reading may say, metres: a scale that puts the
+/// deepest reading (65535 units) beyond it is a wrong scale, and would
+/// give coordinates no scene has.
+pub const MAX_DEPTH_M: f64 = 1000.0;
+
 /// A depth image and what one unit of it is in metres.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DepthImage {
@@ -15,10 +20,12 @@ pub struct DepthImage {
 }
 
 impl DepthImage {
-    /// `metres_per_unit` must be positive and finite (BOP: its
-    /// `depth_scale` / 1000, readings being millimetres times the scale).
+    /// `metres_per_unit` must be positive and put the deepest reading
+    /// within [`MAX_DEPTH_M`] (BOP: its `depth_scale` / 1000, readings
+    /// being millimetres times the scale).
     pub fn new(pixels: DepthPixels, metres_per_unit: f64) -> Result<Self, FrameError> {
-        if !(metres_per_unit.is_finite() && metres_per_unit > 0.0) {
+        let deepest = metres_per_unit * f64::from(u16::MAX);
+        if !(metres_per_unit > 0.0 && deepest <= MAX_DEPTH_M) {
             return Err(FrameError::BadDepthScale {
                 value: metres_per_unit,
             });

@@ -45,10 +45,10 @@ mod settings;
 
 pub use error::{FrameError, LoadError, SettingsError};
 pub use features::{BoundingBox, COLOUR_DIM, FEATURE_DIM, SHAPE_DIM};
-pub use frame::{DepthImage, DepthPixels, Frame, Mask};
+pub use frame::{DepthImage, DepthPixels, Frame, MAX_DEPTH_M, Mask};
 pub use front_end::{Detection, FrontEnd, Skipped};
 pub use intrinsics::Intrinsics;
-pub use load::{load_colour, load_depth, load_mask};
+pub use load::{MAX_IMAGE_PIXELS, load_colour, load_depth, load_mask};
 pub use noise::{CameraNoise, DepthLaw};
 pub use outline::{outline_polygons, signed_area};
 pub use segment::{

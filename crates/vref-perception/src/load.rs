@@ -7,17 +7,36 @@ use image::{DynamicImage, GrayImage, ImageReader, RgbImage};
 
 use crate::{DepthPixels, LoadError};
 
-fn decode(path: &Path) -> Result<DynamicImage, LoadError> {
-    let reader = ImageReader::open(path)
+/// Most pixels an image file may have (a 4096x4096 picture, twice a 4K
+/// camera's): its size is read from the header and checked before a
+/// byte of it is decoded, so a huge file cannot take the memory of every
+/// process that loads it (8000x8000 cost 0.9 GB each).
+pub const MAX_IMAGE_PIXELS: u64 = 4096 * 4096;
+
+fn open(path: &Path) -> Result<ImageReader<std::io::BufReader<std::fs::File>>, LoadError> {
+    ImageReader::open(path)
         .and_then(ImageReader::with_guessed_format)
         .map_err(|source| LoadError::Open {
             path: path.to_owned(),
             source,
-        })?;
-    reader.decode().map_err(|source| LoadError::Decode {
+        })
+}
+
+fn decode(path: &Path) -> Result<DynamicImage, LoadError> {
+    let decode_error = |source| LoadError::Decode {
         path: path.to_owned(),
         source,
-    })
+    };
+    let (width, height) = open(path)?.into_dimensions().map_err(decode_error)?;
+    if u64::from(width) * u64::from(height) > MAX_IMAGE_PIXELS {
+        return Err(LoadError::TooLarge {
+            path: path.to_owned(),
+            width,
+            height,
+            max_pixels: MAX_IMAGE_PIXELS,
+        });
+    }
+    open(path)?.decode().map_err(decode_error)
 }
 
 /// A colour image (8-bit RGB; 8-bit grey is expanded to RGB).

@@ -7,8 +7,12 @@ pub enum RecordError {
         #[source]
         source: std::io::Error,
     },
-    #[error("not a vref recording (the file starts with neither VREFREC2 nor VREFREC1)")]
+    #[error(
+        "not a vref recording (the file starts with neither the MCAP magic nor VREFREC2 nor VREFREC1)"
+    )]
     BadMagic,
+    #[error("the recording is empty (0 bytes): nothing was ever written to it")]
+    Empty,
     #[error("frame {frame}: length {length} exceeds the limit of {limit} bytes")]
     FrameTooLarge { frame: u64, length: u32, limit: u32 },
     #[error("frame {frame}: the file ends inside the frame")]

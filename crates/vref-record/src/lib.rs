@@ -16,11 +16,14 @@
 //! as snapshots without an up vector.
 //!
 //! Frames are in arrival order with their timestamps, so a replay can keep
-//! the original pacing.
+//! the original pacing. A recording cut short (its recorder killed, its
+//! disk full) is read up to its last complete MCAP chunk or frame
+//! ([`read_recording`], which says where it stopped).
 
 mod error;
 mod frame;
 mod mcap_file;
+mod partial;
 mod reader;
 mod wire_channels;
 mod writer;
@@ -28,6 +31,7 @@ mod writer;
 pub use error::RecordError;
 pub use frame::{Frame, RecordedObject, RecordedRay, RecordedSnapshot};
 pub use mcap_file::{MCAP_MAGIC, mcap_frames, read_frames};
+pub use partial::{Cut, Recording, read_recording};
 pub use reader::RecordingReader;
 pub use wire_channels::{WIRE_ENCODING, WIRE_SCHEMA_ENCODING, WireChannel};
 pub use writer::RecordingWriter;

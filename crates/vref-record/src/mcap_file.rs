@@ -13,7 +13,18 @@ pub const MCAP_MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
 /// file order; other channels (the Foxglove ones, the decision) are
 /// skipped.
 pub fn mcap_frames(bytes: &[u8]) -> Result<Vec<Frame>, RecordError> {
-    let stream = mcap::MessageStream::new(bytes).map_err(RecordError::Mcap)?;
+    mcap_frames_with(bytes, false)
+}
+
+/// `up_to_a_cut`: `bytes` are a file's whole records without its end
+/// (no footer, no closing magic).
+pub(crate) fn mcap_frames_with(bytes: &[u8], up_to_a_cut: bool) -> Result<Vec<Frame>, RecordError> {
+    let stream = if up_to_a_cut {
+        mcap::MessageStream::new_with_options(bytes, mcap::read::Options::IgnoreEndMagic.into())
+    } else {
+        mcap::MessageStream::new(bytes)
+    }
+    .map_err(RecordError::Mcap)?;
     let mut frames = Vec::new();
     for (index, message) in stream.enumerate() {
         let message = message.map_err(RecordError::Mcap)?;
@@ -88,6 +99,9 @@ fn without_up(data: &[u8]) -> Option<Vec<u8>> {
 /// Every frame of a recording in either format: MCAP (by its magic) or
 /// vref's own bincode frames.
 pub fn read_frames(bytes: &[u8]) -> Result<Vec<Frame>, RecordError> {
+    if bytes.is_empty() {
+        return Err(RecordError::Empty);
+    }
     if bytes.starts_with(MCAP_MAGIC) {
         return mcap_frames(bytes);
     }

@@ -7,6 +7,8 @@ use crate::{Frame, MAGIC, MAGIC_V1, MAX_FRAME_BYTES, RecordError};
 pub struct RecordingReader<R: Read> {
     input: R,
     frame: u64,
+    /// Bytes of the magic and the frames read so far.
+    offset: u64,
     done: bool,
     /// A `VREFREC1` file, whose snapshots have no up vector.
     v1: bool,
@@ -30,6 +32,7 @@ impl<R: Read> RecordingReader<R> {
         Ok(Self {
             input,
             frame: 0,
+            offset: magic.len() as u64,
             done: false,
             v1,
         })
@@ -71,7 +74,14 @@ impl<R: Read> RecordingReader<R> {
             });
         }
         self.frame += 1;
+        self.offset += 4 + u64::from(length);
         Ok(Some(decoded))
+    }
+
+    /// Bytes of the magic and the whole frames read so far: where a file
+    /// cut short stops being readable.
+    pub fn offset(&self) -> u64 {
+        self.offset
     }
 }
 

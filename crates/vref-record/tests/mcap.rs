@@ -8,7 +8,7 @@ use std::io::Cursor;
 
 use vref_record::{
     Frame, RecordError, RecordingWriter, WIRE_ENCODING, WIRE_SCHEMA_ENCODING, WireChannel,
-    read_frames,
+    read_frames, read_recording,
 };
 use vref_wire::bytes::{WireBytes, put_sample, to_bytes};
 use vref_wire::{MAX_FEATURE_DIM, ObjectEntry, PointingRay, SCHEMA_VERSION, SnapshotHeader};
@@ -144,6 +144,63 @@ fn a_raw_message_of_the_wrong_length_names_its_channel() {
     assert!(read_frames(&whole[..whole.len() / 2]).is_err());
 }
 
+/// Issue 40, case 3: a recording cut at any byte (its recorder killed,
+/// its disk full) replays every message of its complete chunks, says
+/// where it stopped, and is never refused whole. vref-view writes as
+/// here: zstd chunks built in memory and written whole.
+#[test]
+fn a_recording_cut_at_any_byte_reads_back_up_to_its_last_complete_chunk() {
+    let messages: Vec<(WireChannel, Vec<u8>)> = (1..=12)
+        .map(|k| {
+            let mut r = ray();
+            r.sequence = k;
+            (WireChannel::Gesture, to_bytes(&r))
+        })
+        .collect();
+    let options = mcap::WriteOptions::default()
+        .compression(Some(mcap::Compression::Zstd))
+        .disable_seeking(true)
+        .chunk_size(Some(200));
+    let whole = written_as(&messages, WireChannel::layout, options);
+    let all = read_frames(&whole).unwrap();
+    assert_eq!(all.len(), 12);
+    let whole_read = read_recording(&whole).unwrap();
+    assert_eq!((whole_read.frames.len(), whole_read.cut), (12, None));
+    let mut last = 0;
+    let mut counts = std::collections::BTreeSet::new();
+    for at in 1..whole.len() {
+        let read = read_recording(&whole[..at]).unwrap_or_else(|e| panic!("cut at {at}: {e}"));
+        let n = read.frames.len();
+        assert_eq!(read.frames, all[..n], "cut at {at}");
+        assert!(n >= last, "cut at {at}: {n} frames after {last}");
+        let cut = read
+            .cut
+            .unwrap_or_else(|| panic!("cut at {at} not reported"));
+        assert_eq!((cut.length, cut.frame), (at as u64, n as u64));
+        assert!(cut.readable <= at as u64);
+        assert!(
+            cut.to_string()
+                .contains(&format!("first {} of {at} bytes", cut.readable))
+        );
+        last = n;
+        counts.insert(n);
+    }
+    // Several chunks were complete at one cut or another, and every
+    // message is read once its chunk is (the summary is all that a cut
+    // near the end loses).
+    assert!(counts.len() > 3, "{counts:?}");
+    assert_eq!(last, 12);
+    // The strict reader still refuses a cut file: only replay salvages.
+    assert!(read_frames(&whole[..whole.len() - 1]).is_err());
+}
+
+#[test]
+fn an_empty_file_is_called_empty() {
+    assert!(matches!(read_recording(b""), Err(RecordError::Empty)));
+    assert!(matches!(read_frames(b""), Err(RecordError::Empty)));
+    assert!(RecordError::Empty.to_string().contains("empty"));
+}
+
 #[test]
 fn vref_recordings_are_read_by_their_magic_too() {
     let mut w = RecordingWriter::new(Vec::new()).unwrap();
@@ -169,9 +226,17 @@ fn written_with(
     messages: &[(WireChannel, Vec<u8>)],
     layout: impl Fn(WireChannel) -> String,
 ) -> Vec<u8> {
+    written_as(messages, layout, mcap::WriteOptions::default())
+}
+
+fn written_as(
+    messages: &[(WireChannel, Vec<u8>)],
+    layout: impl Fn(WireChannel) -> String,
+    options: mcap::WriteOptions,
+) -> Vec<u8> {
     let mut cursor = Cursor::new(Vec::new());
     {
-        let mut writer = mcap::Writer::new(&mut cursor).unwrap();
+        let mut writer = options.create(&mut cursor).unwrap();
         let mut ids = BTreeMap::new();
         for c in WireChannel::ALL {
             let schema = writer

@@ -82,6 +82,23 @@ fn damage_is_reported_by_frame() {
         Err(RecordError::Truncated { frame: 2 })
     ));
     assert_eq!(results.len(), 3, "the stream ends at the first error");
+    // Replay reads what is whole and says where it stopped.
+    let read = vref_record::read_recording(cut).unwrap();
+    assert_eq!(read.frames.len(), 2);
+    let stop = read.cut.unwrap();
+    assert_eq!((stop.frame, stop.length), (2, cut.len() as u64));
+    let whole_two = encode(&frames()[..2]);
+    assert_eq!(stop.readable, whole_two.len() as u64);
+    // A cut at a frame's end looks like a whole file (the format has no
+    // end mark); anywhere else it is reported.
+    let all = frames();
+    for at in 1..bytes.len() {
+        let read = vref_record::read_recording(&bytes[..at]).unwrap();
+        let n = read.frames.len();
+        assert_eq!(read.frames, all[..n], "cut at {at}");
+        let boundary = encode(&all[..n]).len() == at;
+        assert_eq!(read.cut.is_none(), boundary, "cut at {at}");
+    }
 
     let mut huge = b"VREFREC1".to_vec();
     huge.extend_from_slice(&u32::MAX.to_le_bytes());

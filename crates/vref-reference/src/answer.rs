@@ -1,5 +1,6 @@
 use nalgebra::Point3;
 use vref_match::{OkRule, Solution, Verdict};
+use vref_scene::Side;
 use vref_wire::{
     Alternative, AnswerStatus, MAX_ALTERNATIVES, PointingRay, QueryKind, Ray, ReferenceAnswer,
     ReferenceQuery, SCHEMA_VERSION,
@@ -38,6 +39,7 @@ impl ReferenceState {
         };
         let Some(solved) = self.solved.as_deref() else {
             answer.status = AnswerStatus::NotReady as u32;
+            self.name_refusal(&mut answer, [true; 2]);
             return answer;
         };
         answer.robot_sequence = solved.robot.sequence;
@@ -175,10 +177,26 @@ impl ReferenceState {
         }
         let limit = micros(self.stale_after);
         let ray_old = answer.ray_age_us > micros(self.ray_max_age);
-        if answer.robot_age_us > limit || answer.human_age_us > limit || ray_old {
+        let old = [answer.robot_age_us > limit, answer.human_age_us > limit];
+        if old[0] || old[1] || ray_old {
             answer.status = AnswerStatus::Stale as u32;
+            self.name_refusal(&mut answer, old);
         }
         answer
+    }
+
+    /// Names the refusal behind an answer that has nothing fresher: the
+    /// latest refused snapshot of a side (`sides`: robot, human) whose
+    /// snapshot is old or missing, robot first.
+    fn name_refusal(&self, answer: &mut ReferenceAnswer, sides: [bool; 2]) {
+        let refused = [Side::Robot, Side::Human]
+            .into_iter()
+            .filter(|&side| sides[side as usize])
+            .find_map(|side| self.last_refused(side));
+        if let Some(reason) = refused {
+            answer.refusal = reason as u32;
+            answer.flags |= ReferenceAnswer::FLAG_REFUSAL;
+        }
     }
 }
 

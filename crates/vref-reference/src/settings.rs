@@ -35,6 +35,14 @@ pub struct MatcherSettings {
     pub solver_nice: i32,
     /// How often dead nodes of crashed processes are cleaned up, ms.
     pub cleanup_interval_ms: u64,
+    /// A snapshot whose feature length differs from the other side's is
+    /// taken (and the other side's dropped) once its side has sent that
+    /// length for this long while the other side had nothing accepted,
+    /// ms: a source replaced on one side is not locked out by a snapshot
+    /// its old peer left behind. Without waiting, when the other side has
+    /// itself been refused for sending this snapshot's length (both
+    /// sources replaced).
+    pub feature_dim_grace_ms: u64,
     /// Answers whose confidence is below this are `ambiguous` (with the
     /// top alternatives). `rigid`'s confidence is a calibrated probability
     /// that the answer is right, so the default 0.5 flags answers more
@@ -73,6 +81,7 @@ impl Default for MatcherSettings {
             max_queries_per_client_hz: 2000.0,
             solver_nice: 10,
             cleanup_interval_ms: 250,
+            feature_dim_grace_ms: 1000,
             ambiguity_threshold: OkRule::default().ambiguity_threshold,
             fit_limit: OkRule::default().fit_limit,
         }

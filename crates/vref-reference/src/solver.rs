@@ -46,6 +46,8 @@ type Key = (u64, u64);
 #[derive(Debug)]
 pub struct Solver {
     engine: Engine,
+    params: Params,
+    search_begin: Option<fn()>,
     fed: [Option<Key>; 2],
     last: Option<Solution>,
     solves: u64,
@@ -56,10 +58,25 @@ impl Solver {
         params.validate()?;
         Ok(Self {
             engine: Engine::new(settings.method()?, settings.tier()?, params)?,
+            params,
+            search_begin: None,
             fed: [None; 2],
             last: None,
             solves: 0,
         })
+    }
+
+    /// A fresh engine: both sides' feature length changed (the intake
+    /// takes such a pair, ReferenceState), which the engine, fed one side
+    /// at a time, would refuse against the other side it still holds.
+    fn restart(&mut self) -> Result<(), MatchError> {
+        self.engine = Engine::new(self.engine.method(), self.engine.tier(), self.params)?;
+        if let Some(begin) = self.search_begin {
+            self.engine.on_search_thread(begin);
+        }
+        self.fed = [None; 2];
+        self.last = None;
+        Ok(())
     }
 
     pub fn method(&self) -> Method {
@@ -69,6 +86,7 @@ impl Solver {
     /// Has `begin` run first on the thread of every full search the
     /// engine runs apart (`[matching.live] rigid_full_apart`).
     pub fn on_search_thread(&mut self, begin: fn()) {
+        self.search_begin = Some(begin);
         self.engine.on_search_thread(begin);
     }
 
@@ -77,11 +95,8 @@ impl Solver {
         self.solves
     }
 
-    /// Solves `pair`; the engine diffs each snapshot by track id against
-    /// the one it holds, so only changed objects cost work, and unchanged
-    /// objects cost no solve at all.
-    pub fn solve(&mut self, pair: &Pair) -> Result<Solved, MatchError> {
-        let started = Instant::now();
+    /// Gives the engine the snapshots of `pair` it does not hold yet.
+    fn feed(&mut self, pair: &Pair) -> Result<(), MatchError> {
         for (side, snapshot) in [(Side::Robot, &pair.robot), (Side::Human, &pair.human)] {
             let key = Some((snapshot.session, snapshot.sequence));
             if self.fed[side as usize] != key {
@@ -91,6 +106,21 @@ impl Solver {
                 self.engine.update(side, &snapshot.graph)?;
                 self.fed[side as usize] = key;
             }
+        }
+        Ok(())
+    }
+
+    /// Solves `pair`; the engine diffs each snapshot by track id against
+    /// the one it holds, so only changed objects cost work, and unchanged
+    /// objects cost no solve at all.
+    pub fn solve(&mut self, pair: &Pair) -> Result<Solved, MatchError> {
+        let started = Instant::now();
+        match self.feed(pair) {
+            Err(MatchError::FeatureDimsDiffer { .. }) => {
+                self.restart()?;
+                self.feed(pair)?;
+            }
+            fed => fed?,
         }
         let real = self.engine.is_dirty() || self.last.is_none();
         if real {

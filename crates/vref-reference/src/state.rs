@@ -1,5 +1,5 @@
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use vref_match::MatchError;
 use vref_scene::{Limits, Side};
@@ -42,6 +42,16 @@ pub struct ReferenceState {
     pub(crate) solved: Option<Arc<Solved>>,
     /// Robot snapshots, human snapshots, rays.
     order: [Sequencer; 3],
+    /// When each side's snapshot in force was accepted.
+    accepted_at: [Option<Instant>; 2],
+    /// The feature length each side was last refused for, as
+    /// `feature_dim_other_side`, and since when it has been, since its
+    /// last accepted snapshot.
+    dim_refused: [Option<(usize, Instant)>; 2],
+    feature_dim_grace: Duration,
+    /// Each side's latest refused snapshot's reason, since its last
+    /// accepted one: what a stale or not-ready answer names.
+    last_refused: [Option<RejectReason>; 2],
     rejections: Rejections,
 }
 
@@ -68,6 +78,10 @@ impl ReferenceState {
             gesture: None,
             solved: None,
             order: [order(), order(), order()],
+            accepted_at: [None; 2],
+            dim_refused: [None; 2],
+            feature_dim_grace: Duration::from_millis(settings.feature_dim_grace_ms),
+            last_refused: [None; 2],
             rejections: Rejections::default(),
         })
     }
@@ -84,24 +98,46 @@ impl ReferenceState {
     ) -> Result<Accepted, Rejected> {
         let result = self.check_snapshot(side, origin, header, entries, now);
         match result {
-            Ok((snapshot, placement)) => {
+            Ok((snapshot, placement, replaces_other)) => {
                 self.order[side as usize].record(
                     origin,
                     snapshot.session,
                     snapshot.sequence,
                     now.instant,
                 );
-                let slot = match side {
-                    Side::Robot => &mut self.robot,
-                    Side::Human => &mut self.human,
-                };
-                *slot = Some(Arc::new(snapshot));
+                if replaces_other {
+                    // Its features cannot be compared with this one's: the
+                    // other side waits for a snapshot of the new length.
+                    let other = other_side(side);
+                    *self.slot(other) = None;
+                    self.accepted_at[other as usize] = None;
+                }
+                *self.slot(side) = Some(Arc::new(snapshot));
+                self.accepted_at[side as usize] = Some(now.instant);
+                self.dim_refused[side as usize] = None;
+                self.last_refused[side as usize] = None;
                 Ok(Accepted { placement })
             }
             Err(rejected) => {
+                self.last_refused[side as usize] = Some(rejected.reason);
+                if rejected.reason == RejectReason::FeatureDimOtherSide {
+                    let dim = header.feature_dim as usize;
+                    let refused = &mut self.dim_refused[side as usize];
+                    match refused {
+                        Some((d, _)) if *d == dim => {}
+                        _ => *refused = Some((dim, now.instant)),
+                    }
+                }
                 self.rejections.count(rejected.reason);
                 Err(rejected)
             }
+        }
+    }
+
+    fn slot(&mut self, side: Side) -> &mut Option<Arc<ValidSnapshot>> {
+        match side {
+            Side::Robot => &mut self.robot,
+            Side::Human => &mut self.human,
         }
     }
 
@@ -112,26 +148,14 @@ impl ReferenceState {
         header: &SnapshotHeader,
         entries: &[ObjectEntry],
         now: &Now,
-    ) -> Result<(ValidSnapshot, Placement), Rejected> {
+    ) -> Result<(ValidSnapshot, Placement, bool), Rejected> {
         let snapshot =
             validate_snapshot(header, entries, side, &self.limits).map_err(|e| Rejected {
                 reason: RejectReason::of(&e),
                 detail: e.to_string(),
             })?;
         self.stamps.check(snapshot.timestamp_ns, now)?;
-        let other = match side {
-            Side::Robot => &self.human,
-            Side::Human => &self.robot,
-        };
-        if let Some(other) = other {
-            let (mine, theirs) = (snapshot.graph.feature_dim(), other.graph.feature_dim());
-            if mine != 0 && theirs != 0 && mine != theirs {
-                return Err(Rejected {
-                    reason: RejectReason::FeatureDimOtherSide,
-                    detail: format!("feature dimension {mine}, the other side's is {theirs}"),
-                });
-            }
-        }
+        let replaces_other = self.other_length(side, snapshot.graph.feature_dim(), now)?;
         // Last: only a message that would otherwise be taken may count
         // towards its port's resynchronisation.
         let placement = self.order[side as usize].place(
@@ -140,7 +164,40 @@ impl ReferenceState {
             snapshot.sequence,
             now.instant,
         )?;
-        Ok((snapshot, placement))
+        Ok((snapshot, placement, replaces_other))
+    }
+
+    /// Whether a snapshot of `side` with feature length `mine` fits the
+    /// other side's snapshot in force: `Ok(false)` if it does, `Ok(true)`
+    /// if it replaces a length the other side no longer stands by (it
+    /// agrees to `mine`, or has been silent for the grace), else refused.
+    fn other_length(&self, side: Side, mine: usize, now: &Now) -> Result<bool, Rejected> {
+        let other = other_side(side);
+        let Some(theirs) = self.snapshot(other).map(|s| s.graph.feature_dim()) else {
+            return Ok(false);
+        };
+        if mine == 0 || theirs == 0 || mine == theirs {
+            return Ok(false);
+        }
+        let grace = self.feature_dim_grace;
+        let over = |since: Instant| now.instant.saturating_duration_since(since) >= grace;
+        let agrees = self.dim_refused[other as usize].is_some_and(|(d, _)| d == mine);
+        // One message is no new source (an injected or stray one): the
+        // new length must have been sent for the grace, while the other
+        // side sent nothing.
+        let insists =
+            self.dim_refused[side as usize].is_some_and(|(d, since)| d == mine && over(since));
+        let silent = self.accepted_at[other as usize].is_none_or(over);
+        if agrees || (insists && silent) {
+            return Ok(true);
+        }
+        Err(Rejected {
+            reason: RejectReason::FeatureDimOtherSide,
+            detail: format!(
+                "feature dimension {mine}, the other side's is {theirs} (taken once the other side sends {mine} too, or once this side has sent {mine} for {} ms while the other sent nothing)",
+                grace.as_millis()
+            ),
+        })
     }
 
     /// Takes a pointing ray sent by publisher port `origin`, or refuses it
@@ -218,7 +275,20 @@ impl ReferenceState {
         }
     }
 
+    /// The reason of `side`'s latest refused snapshot, if none was
+    /// accepted after it.
+    pub fn last_refused(&self, side: Side) -> Option<RejectReason> {
+        self.last_refused[side as usize]
+    }
+
     pub fn latest_ray(&self) -> Option<&Ray> {
         self.gesture.as_ref()
+    }
+}
+
+fn other_side(side: Side) -> Side {
+    match side {
+        Side::Robot => Side::Human,
+        Side::Human => Side::Robot,
     }
 }

@@ -790,3 +790,85 @@ fn a_ray_between_two_objects_halves_the_confidence_of_the_one_it_takes() {
     assert_eq!(straight.human_object_id, 4);
     assert_eq!(straight.confidence, s.answer(&by_id(4), &now).confidence);
 }
+
+/// A snapshot with `dim` feature values of `side`'s feed.
+fn with_dim(
+    s: &mut Rig,
+    side: Side,
+    sequence: u64,
+    dim: u32,
+    now: &Now,
+) -> Result<(), RejectReason> {
+    let (origin, session, ids, shift) = match side {
+        Side::Robot => (ROBOT_FEED, 1, &ROBOT_IDS, 0.5),
+        Side::Human => (HUMAN_FEED, 2, &HUMAN_IDS, 0.0),
+    };
+    let mut h = header(side, session, sequence, 4, now);
+    h.feature_dim = dim;
+    s.state
+        .accept_snapshot(side, origin, &h, &entries(ids, shift), now)
+        .map(drop)
+        .map_err(|r| r.reason)
+}
+
+/// Issue 40, case 1: both feeds replaced by a source with another feature
+/// length. Before, each side was refused against the other's old
+/// snapshot for as long as the matcher ran.
+#[test]
+fn both_sides_changing_their_feature_length_are_taken_at_once() {
+    let now = Now::read();
+    let mut s = ready(&now);
+    assert_eq!(
+        with_dim(&mut s, Side::Robot, 2, 5, &now),
+        Err(RejectReason::FeatureDimOtherSide)
+    );
+    // The human side agrees: taken, and the robot's old snapshot dropped
+    // (its features cannot be compared with the new ones).
+    with_dim(&mut s, Side::Human, 2, 5, &now).unwrap();
+    assert!(s.state.snapshot(Side::Robot).is_none());
+    assert!(s.state.latest_pair().is_none());
+    with_dim(&mut s, Side::Robot, 3, 5, &now).unwrap();
+    s.solve();
+    let a = s.answer(&by_id(1), &now);
+    assert_eq!((a.status, a.robot_track_id), (AnswerStatus::Ok as u32, 40));
+}
+
+/// One side's source replaced while the other side's feed is gone: taken
+/// once that side has sent nothing for the grace; not while it is live.
+#[test]
+fn one_side_changing_its_feature_length_waits_for_the_grace_if_the_other_is_live() {
+    let now = Now::read();
+    let settings = MatcherSettings {
+        feature_dim_grace_ms: 300,
+        ..settings("paper")
+    };
+    let mut s = ready_with(settings, &now);
+    let at = |ms: u64| Now {
+        instant: now.instant + Duration::from_millis(ms),
+        unix_ns: now.unix_ns + ms * 1_000_000,
+    };
+    assert_eq!(
+        with_dim(&mut s, Side::Robot, 2, 5, &at(100)),
+        Err(RejectReason::FeatureDimOtherSide)
+    );
+    // The human feed is live: its snapshot keeps the length in force.
+    with_dim(&mut s, Side::Human, 2, 4, &at(200)).unwrap();
+    assert_eq!(
+        with_dim(&mut s, Side::Robot, 3, 5, &at(400)),
+        Err(RejectReason::FeatureDimOtherSide)
+    );
+    // Silent for the grace: the new length is taken.
+    with_dim(&mut s, Side::Robot, 4, 5, &at(500)).unwrap();
+    assert!(s.state.snapshot(Side::Human).is_none());
+    assert_eq!(
+        s.state.snapshot(Side::Robot).unwrap().graph.feature_dim(),
+        5
+    );
+    // One stray message of the old length, however long after: refused
+    // (a new source sends for the grace).
+    assert_eq!(with_dim(&mut s, Side::Robot, 5, 5, &at(5000)), Ok(()));
+    assert_eq!(
+        with_dim(&mut s, Side::Human, 3, 4, &at(9000)),
+        Err(RejectReason::FeatureDimOtherSide)
+    );
+}

@@ -6,7 +6,6 @@
 //! latest-gesture query now and then.
 
 use std::fs::File;
-use std::io::BufWriter;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -33,6 +32,9 @@ use crate::scene::{marker_size, scene};
 use crate::state::{Asked, Latest, View};
 use crate::{ViewError, json};
 
+/// Uncompressed bytes per MCAP chunk: what a recorder killed with -9
+/// loses at most (a few seconds of snapshots; images fill a chunk sooner).
+const MCAP_CHUNK_BYTES: u64 = 256 * 1024;
 /// Longest wait for an answer to the viewer's own query.
 const ANSWER_TIMEOUT: Duration = Duration::from_millis(250);
 /// A scene is sent at least this often, so that a client that connects
@@ -132,24 +134,27 @@ pub fn run(
 ) -> Result<Counts, ViewError> {
     let ctx = Context::new();
     let channels = Channels::new(&ctx, options.images.is_some())?;
-    let mcap = match &options.mcap {
-        Some(path) => {
-            let file = File::create(path).map_err(|source| ViewError::Create {
-                path: path.clone(),
-                source,
-            })?;
-            let write = McapWriteOptions::default().compression(Some(McapCompression::Zstd));
-            Some(
-                ctx.mcap_writer_with_options(write)
-                    .create(BufWriter::new(file))
-                    .map_err(ViewError::foxglove(format!(
-                        "MCAP writer {}",
-                        path.display()
-                    )))?,
-            )
-        }
-        None => None,
-    };
+    let mcap =
+        match &options.mcap {
+            Some(path) => {
+                let file = File::create(path).map_err(|source| ViewError::Create {
+                    path: path.clone(),
+                    source,
+                })?;
+                // Each chunk is built in memory and written whole when it is
+                // finished (no seeking back to patch a chunk's header), with
+                // no buffer of our own in between: a recorder killed with -9
+                // leaves every finished chunk readable (vref_record::read_recording).
+                let write = McapWriteOptions::default()
+                    .compression(Some(McapCompression::Zstd))
+                    .disable_seeking(true)
+                    .chunk_size(Some(MCAP_CHUNK_BYTES));
+                Some(ctx.mcap_writer_with_options(write).create(file).map_err(
+                    ViewError::foxglove(format!("MCAP writer {}", path.display())),
+                )?)
+            }
+            None => None,
+        };
     let server = match options.listen {
         Some(addr) => Some(
             ctx.websocket_server()

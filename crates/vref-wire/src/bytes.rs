@@ -271,7 +271,7 @@ impl WireBytes for ReferenceAnswer {
             put_u32(out, a.reserved);
         }
         put_u32(out, self.flags);
-        put_u32(out, self.reserved);
+        put_u32(out, self.refusal);
     }
 
     fn take(input: &mut &[u8]) -> Option<Self> {
@@ -297,7 +297,7 @@ impl WireBytes for ReferenceAnswer {
             a.reserved = take_u32(input)?;
         }
         answer.flags = take_u32(input)?;
-        answer.reserved = take_u32(input)?;
+        answer.refusal = take_u32(input)?;
         Some(answer)
     }
 }

@@ -191,7 +191,7 @@ pub fn wire_types() -> Vec<TypeLayout> {
             schema_version,
             alternatives,
             flags,
-            reserved,
+            refusal,
         }),
         layout!(MatcherStats {
             started_ns,
@@ -377,6 +377,10 @@ pub fn codes() -> Vec<Codes> {
                 Code {
                     name: "human_position_from_motion",
                     value: ReferenceAnswer::FLAG_HUMAN_POSITION_FROM_MOTION,
+                },
+                Code {
+                    name: "refusal",
+                    value: ReferenceAnswer::FLAG_REFUSAL,
                 },
             ],
         ),

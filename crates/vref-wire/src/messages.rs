@@ -238,7 +238,12 @@ pub struct ReferenceAnswer {
     /// Bits about how the answer was made ([`ReferenceAnswer::FLAG_SOLVED`]
     /// and the others). Unknown bits are 0 and readers ignore them.
     pub flags: u32,
-    pub reserved: u32,
+    /// With [`ReferenceAnswer::FLAG_REFUSAL`]: why a `stale` or `not_ready`
+    /// answer has nothing fresher, as the matcher's reject reason (the
+    /// index of `MatcherStats.rejected`) of the latest snapshot refused on
+    /// a side that has no newer accepted one; 0 without the flag. (It was
+    /// a reserved field of zeros: the layout is unchanged.)
+    pub refusal: u32,
 }
 
 impl AnswerStatus {
@@ -281,6 +286,9 @@ impl ReferenceAnswer {
     /// between the views; without this bit it is the human object's own
     /// measured position.
     pub const FLAG_HUMAN_POSITION_FROM_MOTION: u32 = 1 << 2;
+    /// `refusal` holds the reject reason behind a `stale` or `not_ready`
+    /// answer.
+    pub const FLAG_REFUSAL: u32 = 1 << 3;
 
     /// An answer to request `request_id` with `status` and nothing found:
     /// no object, no confidence, no alternatives, no flags.
@@ -303,7 +311,7 @@ impl ReferenceAnswer {
             schema_version: SCHEMA_VERSION,
             alternatives: [Alternative::default(); MAX_ALTERNATIVES],
             flags: 0,
-            reserved: 0,
+            refusal: 0,
         }
     }
 

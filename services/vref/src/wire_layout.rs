@@ -35,11 +35,25 @@ pub fn run(args: &WireLayoutArgs) -> Result<(), Failure> {
     stdout::print(&text)
 }
 
-/// The matcher's reject reasons: the index of `MatcherStats.rejected`.
+/// How a field's `type` is written.
+const TYPE_GRAMMAR: &str = "u8, u16, u32, u64, i32, i64, f32 or f64 (little-endian, C layout), \
+    or [T; N]: N values of T in a row, where T is one of those or the `name` of another \
+    record of kind type (e.g. [Alternative; 3]); offsets and sizes are in bytes";
+
+/// When a process notifies which event service.
+const EVENT_RULES: [&str; 4] = [
+    "after each sample sent on a publish_subscribe service, notify the event service its `event` names (notify(), EventId 0)",
+    "after each request sent on a request_response service, notify the service its `request_event` names; the server notifies `response_event` after it sent answers, and a waiting client listens there",
+    "qos.notifier_dead_event is an iceoryx2 EventId value: what a listener receives when a notifier's process died",
+    "every process opens or creates the services with exactly the qos given here, under iceoryx2's file prefix `iceoryx2_prefix` (iceoryx2's own default, iox2_, never meets the services)",
+];
+
+/// The matcher's reject reasons: the index of `MatcherStats.rejected`,
+/// and the value of `ReferenceAnswer.refusal`.
 fn reject_reasons() -> Codes {
     Codes {
         name: "RejectReason",
-        used_in: vec!["MatcherStats.rejected"],
+        used_in: vec!["MatcherStats.rejected", "ReferenceAnswer.refusal"],
         kind: "index",
         values: RejectReason::ALL
             .into_iter()
@@ -73,6 +87,11 @@ pub fn lines(ipc: &IpcSettings) -> Vec<Value> {
         "max_subscribers": ipc.max_subscribers,
         "initial_objects": ipc.initial_objects,
         "constants": constants,
+        // What a client written from this file alone had to guess
+        // (issue 40, case 9).
+        "iceoryx2_prefix": ipc.prefix,
+        "type_grammar": TYPE_GRAMMAR,
+        "event_rules": EVENT_RULES,
     })];
     let tagged = |record: &str, value: Value| {
         let mut value = value;

@@ -69,6 +69,8 @@ _new_tuple = tuple.__new__
 _SOLVED = wire.ANSWER_FLAGS["solved"]
 _HUMAN_POSITION = wire.ANSWER_FLAGS["human_position"]
 _FROM_MOTION = wire.ANSWER_FLAGS["human_position_from_motion"]
+_REFUSAL = wire.ANSWER_FLAGS["refusal"]
+_REASON_NAMES = {code: name for name, code in wire.REJECT_REASONS.items()}
 
 
 def _alternatives(v: tuple[Any, ...], count: int) -> tuple[Alternative, ...]:
@@ -89,7 +91,7 @@ def _answer(v: tuple[Any, ...]) -> Answer:
     """An answer from the values of ``ANSWER_STRUCT``."""
     # 0-8 the u64s, 9-11 position, 12-14 human_frame_position,
     # 15 confidence, 16 status, 17 alternative_count, 18 schema_version,
-    # 19-27 alternatives (id, confidence, reserved), 28 flags.
+    # 19-27 alternatives (id, confidence, reserved), 28 flags, 29 refusal.
     flags = v[28]
     count = v[17]
     return _new_tuple(
@@ -112,6 +114,7 @@ def _answer(v: tuple[Any, ...]) -> Answer:
             v[12:15] if flags & _HUMAN_POSITION else None,
             flags & _FROM_MOTION != 0,
             flags,
+            _REASON_NAMES.get(v[29]) if flags & _REFUSAL else None,
         ),
     )
 
@@ -170,6 +173,11 @@ class Answer(NamedTuple):
     human_frame_position_from_motion: bool
     #: The raw ``flags`` bits (unknown bits are ignored).
     flags: int
+    #: Why a ``stale`` or ``not_ready`` answer has nothing fresher: the
+    #: matcher's reject reason (e.g. ``feature_dim_other_side``) of the
+    #: latest snapshot it refused on a side with no newer accepted one;
+    #: ``None`` when nothing was refused.
+    refusal: str | None = None
 
     @property
     def ok(self) -> bool:

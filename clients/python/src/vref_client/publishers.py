@@ -30,6 +30,18 @@ def new_session() -> int:
     return z ^ (z >> 31)
 
 
+def _next_sequence(session: int, sequence: int) -> int:
+    """The sequence number after ``sequence``, both checked: ctypes would
+    wrap 2**64 to 0 silently, and the matcher take it as going back."""
+    validate.check_u64("session", session)
+    if validate.check_u64("sequence", sequence) == validate.U64_MAX:
+        raise ValueError(
+            "sequence: 2**64-1 was the session's last; start a new session"
+            " (session = new_session(), sequence = 0)"
+        )
+    return sequence + 1
+
+
 def _settings(
     namespace: str,
     prefix: str,
@@ -149,7 +161,7 @@ class SnapshotPublisher(Endpoint):
         up_vector = validate.up_vector(up)
         n = int(ids.size)
         dim = int(feat.shape[1])
-        sequence = self.sequence + 1
+        sequence = _next_sequence(self.session, self.sequence)
         try:
             sample = self._publisher.loan_slice_uninit(n)
         except Exception as e:
@@ -251,7 +263,7 @@ class RayPublisher(Endpoint):
         o, d, cone = validate.ray_parts(origin, direction, cone_half_angle)
         conf = validate.check_confidence(confidence)
         stamp = time.time_ns() if timestamp_ns is None else validate.check_timestamp(timestamp_ns)
-        sequence = self.sequence + 1
+        sequence = _next_sequence(self.session, self.sequence)
         try:
             sample = self._publisher.loan_uninit()
         except Exception as e:

@@ -50,6 +50,16 @@ def f32_array(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
     refused rather than sent as infinity)."""
     if isinstance(value, np.ndarray) and value.dtype.kind not in "fiu":
         raise ValueError(f"{name}: dtype {value.dtype} is not numeric")
+    if not isinstance(value, np.ndarray):
+        # numpy would read "1.5" and True as numbers: a list of strings or
+        # booleans is a caller's mistake, not a position or a feature.
+        try:
+            kind = np.asarray(value).dtype.kind
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"{name}: not an array of numbers ({e})") from None
+        if kind not in "fiu":
+            what = {"b": "booleans", "U": "strings", "S": "bytes"}.get(kind, "not numbers")
+            raise ValueError(f"{name}: {what}, expected numbers")
     try:
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as e:
@@ -130,7 +140,10 @@ def frame_bytes(frame: Any) -> bytes:
     """A frame name as the wire carries it: UTF-8, at most 32 bytes, no NUL."""
     if not isinstance(frame, str):
         raise ValueError(f"frame: {frame!r} is not a string")
-    data = frame.encode("utf-8")
+    try:
+        data = frame.encode("utf-8")
+    except UnicodeEncodeError as e:
+        raise ValueError(f"frame: {frame!r} is not valid text ({e.reason})") from None
     if len(data) > wire.FRAME_NAME_LEN:
         raise ValueError(
             f"frame: {frame!r} is {len(data)} bytes of UTF-8, at most {wire.FRAME_NAME_LEN}"
@@ -148,6 +161,13 @@ def track_ids(value: Any) -> np.ndarray:
     """Track ids as uint64, one dimension, unique, none negative."""
     if isinstance(value, np.ndarray):
         array = value
+    elif isinstance(value, Sequence) and any(
+        isinstance(v, int) and not isinstance(v, bool) and v > np.iinfo(np.int64).max
+        for v in value
+    ):
+        # numpy makes float64 of small ids beside one beyond int64 (which
+        # would lose digits): each is checked as the integer it is.
+        array = np.array([check_u64("track_ids", v) for v in value], np.uint64)
     else:
         try:
             array = np.asarray(value)

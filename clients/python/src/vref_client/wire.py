@@ -140,7 +140,7 @@ class ReferenceAnswer(ctypes.Structure):
         ("schema_version", _u32),
         ("alternatives", Alternative * MAX_ALTERNATIVES),
         ("flags", _u32),
-        ("reserved", _u32),
+        ("refusal", _u32),
     ]
 
     @staticmethod
@@ -287,13 +287,20 @@ ANSWER_STATUSES: Final = {
 #: ``SnapshotHeader.flags`` bits: ``up`` says ``SnapshotHeader.up`` holds the
 #: view's up vector (else it is unknown).
 SNAPSHOT_FLAGS: Final = {"up": 1}
-#: ``ReferenceAnswer.flags`` bits.
-ANSWER_FLAGS: Final = {"solved": 1, "human_position": 2, "human_position_from_motion": 4}
+#: ``ReferenceAnswer.flags`` bits; ``refusal`` says ``ReferenceAnswer.refusal``
+#: holds the reject reason behind a ``stale`` or ``not_ready`` answer.
+ANSWER_FLAGS: Final = {
+    "solved": 1,
+    "human_position": 2,
+    "human_position_from_motion": 4,
+    "refusal": 8,
+}
 #: ``DecisionHeader.flags`` bits.
 DECISION_HEADER_FLAGS: Final = {"motion": 1, "residuals": 2}
 #: ``DecisionEntry.flags`` bits.
 DECISION_ENTRY_FLAGS: Final = {"partner": 1, "residual": 2}
-#: The matcher's reject reasons: the index of ``MatcherStats.rejected``.
+#: The matcher's reject reasons: the index of ``MatcherStats.rejected`` and
+#: the value of ``ReferenceAnswer.refusal``.
 REJECT_REASONS: Final = {
     "schema_version": 0,
     "wrong_side": 1,
