@@ -52,6 +52,7 @@ pub struct Image {
     pub encoding: String,
     pub is_bigendian: u8,
     pub step: u32,
+    #[serde(with = "byte_seq")]
     pub data: Vec<u8>,
 }
 
@@ -153,6 +154,7 @@ pub struct ColorRgba {
 pub struct CompressedImage {
     pub header: Header,
     pub format: String,
+    #[serde(with = "byte_seq")]
     pub data: Vec<u8>,
 }
 
@@ -167,6 +169,7 @@ pub struct UvCoordinate {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct MeshFile {
     pub filename: String,
+    #[serde(with = "byte_seq")]
     pub data: Vec<u8>,
 }
 
@@ -255,4 +258,47 @@ pub fn pose_stamped_type() -> MessageTypeName {
 
 pub fn trigger_type() -> ServiceTypeName {
     ServiceTypeName::new("std_srvs", "Trigger")
+}
+
+/// `uint8[]` fields (image data) as one block of bytes: CDR writes them as
+/// a length and the bytes either way, but serde's element-by-element
+/// sequence costs tens of milliseconds on a 640x480 image, where the
+/// deserializer's byte-buffer path is one copy.
+mod byte_seq {
+    use serde::de::{SeqAccess, Visitor};
+    use serde::{Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(bytes: &[u8], s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_bytes(bytes)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<u8>, D::Error> {
+        d.deserialize_byte_buf(BytesVisitor)
+    }
+
+    struct BytesVisitor;
+
+    impl<'de> Visitor<'de> for BytesVisitor {
+        type Value = Vec<u8>;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("a sequence of bytes")
+        }
+
+        fn visit_bytes<E: serde::de::Error>(self, v: &[u8]) -> Result<Vec<u8>, E> {
+            Ok(v.to_vec())
+        }
+
+        fn visit_byte_buf<E: serde::de::Error>(self, v: Vec<u8>) -> Result<Vec<u8>, E> {
+            Ok(v)
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<u8>, A::Error> {
+            let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 24));
+            while let Some(b) = seq.next_element()? {
+                out.push(b);
+            }
+            Ok(out)
+        }
+    }
 }

@@ -33,9 +33,10 @@ impl Drop for Guard {
     }
 }
 
-/// One OSD scene as the raw buffers a camera driver would send.
-fn write_scene(dir: &Path) {
-    let scene = repo().join("../shared/data/osd/learn/learn3");
+/// One OSD scene as the raw buffers a camera driver would send, with its
+/// instance labels (u16, 0 background).
+fn write_scene(dir: &Path, name: &str) {
+    let scene = repo().join("../shared/data/osd/learn").join(name);
     assert!(scene.exists(), "OSD data not found at {}", scene.display());
     let colour = vref_perception::load_colour(&scene.join("rgb.png")).unwrap();
     let depth = vref_perception::load_depth(&scene.join("depth.png")).unwrap();
@@ -50,6 +51,13 @@ fn write_scene(dir: &Path) {
         .flat_map(|d| d.to_le_bytes())
         .collect();
     std::fs::write(dir.join("depth.raw"), bytes).unwrap();
+    let labels = vref_perception::load_depth(&scene.join("label.png")).unwrap();
+    let bytes: Vec<u8> = labels
+        .as_raw()
+        .iter()
+        .flat_map(|d| d.to_le_bytes())
+        .collect();
+    std::fs::write(dir.join("labels.raw"), bytes).unwrap();
     let frame = serde_json::json!({
         "width": colour.width(), "height": colour.height(),
         "fx": camera["fx"], "fy": camera["fy"], "cx": camera["cx"], "cy": camera["cy"],
@@ -59,6 +67,30 @@ fn write_scene(dir: &Path) {
 
 #[test]
 fn rclpy_camera_gets_markers_and_answers_and_malformed_messages_are_skipped() {
+    run_peer("learn3", "", &[]);
+}
+
+/// The headset's camera and a pointing pose over ROS 2 too: the same OSD
+/// scene from both cameras, with its own labels on both.
+#[test]
+fn rclpy_headset_pointing_gets_an_ok_answer_a_point_and_the_headset_pose() {
+    let topics = "\
+[ros2]
+labels_topic = \"/camera/camera/labels\"
+headset_colour_topic = \"/headset/color/image_raw\"
+headset_depth_topic = \"/headset/depth/image_raw\"
+headset_camera_info_topic = \"/headset/color/camera_info\"
+headset_labels_topic = \"/headset/labels\"
+pointing_topic = \"/headset/pointing\"
+pointing_cone_deg = 3.0
+";
+    run_peer("learn20", topics, &["--pointing"]);
+}
+
+/// Runs rclpy_peer.py (and, from it, vref-ros2) in a loopback-only network
+/// namespace, with a matcher, on OSD scene `scene`; `extra` is appended to
+/// the configuration.
+fn run_peer(scene: &str, extra: &str, peer_args: &[&str]) {
     let python = std::env::var("VREF_ROS2_PYTHON").unwrap_or_else(|_| {
         panic!("VREF_ROS2_PYTHON is not set: run tools/test.sh, which installs rclpy in target/ros2-venv")
     });
@@ -69,13 +101,14 @@ fn rclpy_camera_gets_markers_and_answers_and_malformed_messages_are_skipped() {
     std::fs::write(
         &config,
         format!(
-            "[ipc]\nroot_path = \"{}\"\nprefix = \"r{}_\"\n",
+            "[ipc]\nroot_path = \"{}\"\nprefix = \"r{}{}_\"\n{extra}",
             root.display(),
-            std::process::id()
+            std::process::id(),
+            peer_args.len()
         ),
     )
     .unwrap();
-    write_scene(dir.path());
+    write_scene(dir.path(), scene);
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_vref-ros2"));
     let matcher = bin.parent().unwrap().join("vref-matcher");
     assert!(
@@ -119,6 +152,7 @@ fn rclpy_camera_gets_markers_and_answers_and_malformed_messages_are_skipped() {
             .arg(dir.path())
             .arg("--log")
             .arg(&ros_log)
+            .args(peer_args)
             .env("ROS_DOMAIN_ID", "17")
             .stdin(Stdio::null())
             .stdout(Stdio::piped())

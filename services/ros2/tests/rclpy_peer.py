@@ -42,12 +42,219 @@ def check(ok, what):
     return ok
 
 
+class Ctx:
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
+
+
+def robot_markers(m):
+    return [k for k in m.markers if k.ns == "robot"]
+
+
+def camera_scenario(c):
+    """Markers, the service, malformed messages, CDR bytes."""
+    import rclpy  # noqa: F401
+    from rclpy.serialization import serialize_message, deserialize_message
+    from visualization_msgs.msg import MarkerArray
+    from std_srvs.srv import Trigger
+    node, findings, frame, w, h = c.node, c.findings, c.frame, c.w, c.h
+    rgb, depth, image, info, run_for = c.rgb, c.depth, c.image, c.info, c.run_for
+    arrays, raw, trigger = c.arrays, c.raw, c.trigger
+    colour_pub, depth_pub, info_pub = c.colour_pub, c.depth_pub, c.info_pub
+    # 1. Markers with the robot's objects.
+    started = time.monotonic()
+    got = run_for(40.0, until=lambda: any(robot_markers(m) for _, m in arrays))
+    findings["first_markers_s"] = round(time.monotonic() - started, 2)
+    if check(got, "no MarkerArray with robot objects within 40 s"):
+        last = [m for _, m in arrays if robot_markers(m)][-1]
+        objects = robot_markers(last)
+        findings["robot_objects"] = len(objects)
+        check(objects[0].header.frame_id == "camera_color_optical_frame",
+              f"marker frame {objects[0].header.frame_id}")
+        check(all(0.1 < k.pose.position.z < 5.0 for k in objects),
+              "robot objects should be 0.1-5 m in front of the camera")
+        check(last.markers[0].action == 3, "the array should start with DELETEALL")
+
+    # 2. The service.
+    check(trigger.wait_for_service(timeout_sec=20.0), "service not available in 20 s")
+    future = trigger.call_async(Trigger.Request())
+    run_for(10.0, until=future.done)
+    if check(future.done(), "no service reply within 10 s"):
+        reply = future.result()
+        check("\n" not in reply.message, "reply message must be one line")
+        answer = json.loads(reply.message)
+        findings["service_status"] = answer.get("status")
+        check(reply.success == (answer.get("status") == "ok"),
+              f"success {reply.success} for status {answer.get('status')}")
+
+    # 3. Malformed messages, then good frames again.
+    now = node.get_clock().now().to_msg()
+    colour_pub.publish(image(now, "rgba8", rgb, w * 3))                 # encoding
+    colour_pub.publish(image(now, "rgb8", rgb, w * 3 - 1))             # step too short
+    colour_pub.publish(image(now, "rgb8", rgb[: w * 3 * (h - 1)], w * 3))  # data too short
+    colour_pub.publish(image(now, "rgb8", rgb[:30], 60000, 20000, 20000))  # 20000x20000
+    time.sleep(0.05)
+    info_pub.publish(info(now, 0.0))                                    # fx 0
+    time.sleep(0.05)
+    info_pub.publish(info(now, float("nan")))                           # fx NaN
+    time.sleep(0.05)
+    old = node.get_clock().now().to_msg()
+    old.sec -= 100
+    depth_pub.publish(image(old, "16UC1", depth, w * 2))                # backwards
+    time.sleep(0.2)
+    before = len([1 for _, m in arrays if robot_markers(m)])
+    mark = time.monotonic()
+    run_for(15.0, until=lambda: len([1 for t, m in arrays
+                                     if t > mark and robot_markers(m)]) >= 3)
+    after = len([1 for t, m in arrays if t > mark and robot_markers(m)])
+    findings["arrays_after_malformed"] = after
+    check(after >= 3, f"good frames stopped after the malformed ones ({before} before)")
+    # 4. CDR: vref's bytes against rclpy's serialisation of the same message.
+    if check(raw, "no raw MarkerArray bytes"):
+        blob = raw[-1]
+        again = serialize_message(deserialize_message(blob, MarkerArray))
+        findings["cdr_bytes"] = len(blob)
+        a, b = bytes(blob), bytes(again)
+        first = next((i for i in range(min(len(a), len(b))) if a[i] != b[i]), min(len(a), len(b)))
+        # RustDDS pads a payload to a multiple of 4 bytes with zeros and
+        # does not declare them in the encapsulation options (rclpy reads
+        # it all the same): equal up to those, and the count is reported.
+        findings["cdr_trailing_padding"] = len(a) - len(b)
+        same = a[:len(b)] == b and 0 <= len(a) - len(b) < 4 and not any(a[len(b):])
+        check(same, f"CDR differs: vref {len(a)} bytes, rclpy {len(b)} bytes, from byte "
+                      f"{first}: vref {a[first:first+8].hex()} rclpy {b[first:first+8].hex()}; "
+                      f"heads {a[:8].hex()} {b[:8].hex()}")
+
+
+
+def pointing_scenario(c):
+    """The same scene as both cameras (with the scene's own instance labels
+    on both, so that both views hold the same objects under the same ids),
+    and a pointing pose from the headset camera at one object: the matcher
+    must answer ok with that object, and the answer, the referenced object
+    and the headset pose (about the identity) must arrive over ROS 2."""
+    import numpy as np
+    from rclpy.qos import qos_profile_sensor_data, QoSProfile, ReliabilityPolicy, HistoryPolicy
+    from sensor_msgs.msg import Image, CameraInfo
+    from geometry_msgs.msg import PoseStamped, PointStamped
+    from std_srvs.srv import Trigger
+    node, findings, frame, w, h = c.node, c.findings, c.frame, c.w, c.h
+    lab = np.frombuffer(c.labels, dtype="<u2").reshape(h, w)
+    dep = np.frombuffer(c.depth, dtype="<u2").reshape(h, w)
+    fx, fy, cx, cy = frame["fx"], frame["fy"], frame["cx"], frame["cy"]
+    seen = {}
+    for k in np.unique(lab):
+        if k == 0:
+            continue
+        valid = (lab == k) & (dep > 0)
+        if valid.sum() < 400:
+            continue
+        v, u = np.nonzero(valid)
+        z = float(np.median(dep[valid])) / 1000.0
+        d = np.array([(u.mean() - cx) / fx, (v.mean() - cy) / fy, 1.0])
+        seen[int(k)] = (int(valid.sum()), d * z, d / np.linalg.norm(d))
+    # Not the largest region (the table top in OSD); the object whose
+    # direction is furthest from every other's, so that the cone holds it
+    # alone.
+    largest = max(seen, key=lambda k: seen[k][0])
+    candidates = [k for k in seen if k != largest]
+    def clearance(k):
+        return min(math.acos(min(1.0, float(seen[k][2] @ seen[j][2]))) for j in seen if j != k)
+    target = max(candidates, key=clearance)
+    findings["objects"] = len(seen)
+    findings["target"] = target
+    findings["target_clearance_deg"] = round(math.degrees(clearance(target)), 1)
+    d = seen[target][2]
+    # The rotation taking the x axis to d: the pose's x axis is the ray.
+    q = np.array([0.0, -d[2], d[1], 1.0 + d[0]])
+    q /= np.linalg.norm(q)
+
+    sensor = qos_profile_sensor_data
+    reliable = QoSProfile(reliability=ReliabilityPolicy.RELIABLE,
+                          history=HistoryPolicy.KEEP_LAST, depth=10)
+    pubs = {
+        "robot_labels": node.create_publisher(Image, "/camera/camera/labels", sensor),
+        "h_colour": node.create_publisher(Image, "/headset/color/image_raw", sensor),
+        "h_depth": node.create_publisher(Image, "/headset/depth/image_raw", sensor),
+        "h_info": node.create_publisher(CameraInfo, "/headset/color/camera_info", sensor),
+        "h_labels": node.create_publisher(Image, "/headset/labels", sensor),
+        "pointing": node.create_publisher(PoseStamped, "/headset/pointing", reliable),
+    }
+    points, poses = [], []
+    node.create_subscription(PointStamped, "/vref/referenced_object", points.append, reliable)
+    node.create_subscription(PoseStamped, "/vref/headset_pose", poses.append, reliable)
+
+    def both_cameras():
+        stamp = node.get_clock().now().to_msg()
+        c.info_pub.publish(c.info(stamp, fx))
+        c.colour_pub.publish(c.image(stamp, "rgb8", c.rgb, w * 3))
+        c.depth_pub.publish(c.image(stamp, "16UC1", c.depth, w * 2))
+        pubs["robot_labels"].publish(c.image(stamp, "16UC1", c.labels, w * 2))
+        pubs["h_info"].publish(c.info(stamp, fx))
+        pubs["h_colour"].publish(c.image(stamp, "rgb8", c.rgb, w * 3))
+        pubs["h_depth"].publish(c.image(stamp, "16UC1", c.depth, w * 2))
+        pubs["h_labels"].publish(c.image(stamp, "16UC1", c.labels, w * 2))
+        p = PoseStamped()
+        p.header.stamp = stamp
+        p.header.frame_id = "headset_camera"
+        p.pose.orientation.x, p.pose.orientation.y = float(q[0]), float(q[1])
+        p.pose.orientation.z, p.pose.orientation.w = float(q[2]), float(q[3])
+        pubs["pointing"].publish(p)
+
+    import rclpy
+    check(c.trigger.wait_for_service(timeout_sec=20.0), "service not available in 20 s")
+    started = time.monotonic()
+    end = started + 45.0
+    next_frame = started
+    future, replies = None, []
+    while time.monotonic() < end:
+        now = time.monotonic()
+        if now >= next_frame:
+            both_cameras()
+            next_frame += 0.1
+        if future is None:
+            future = c.trigger.call_async(Trigger.Request())
+        elif future.done():
+            replies.append(future.result())
+            future = None
+            if replies[-1].success and points and poses:
+                break
+        rclpy.spin_once(node, timeout_sec=0.01)
+    findings["ok_after_s"] = round(time.monotonic() - started, 2)
+    findings["replies"] = len(replies)
+    if check(replies, "no service reply"):
+        last = replies[-1]
+        answer = json.loads(last.message)
+        findings["service_status"] = answer.get("status")
+        findings["confidence"] = answer.get("confidence")
+        check(last.success and answer.get("status") == "ok",
+              f"no ok answer within 45 s (last: {last.message})")
+        check(answer.get("robot_track_id") == target,
+              f"answered robot object {answer.get('robot_track_id')}, pointed at {target}")
+    if check(points, "no PointStamped on /vref/referenced_object"):
+        p = points[-1]
+        at = np.array([p.point.x, p.point.y, p.point.z])
+        off = float(np.linalg.norm(at - seen[target][1]))
+        findings["point_off_surface_m"] = round(off, 3)
+        check(p.header.frame_id == "camera_color_optical_frame", f"point frame {p.header.frame_id}")
+        # The front end puts the object's centre behind its visible surface.
+        check(off < 0.15, f"referenced point {at} is {off:.3f} m from the object's surface")
+    if check(poses, "no PoseStamped on /vref/headset_pose"):
+        t = poses[-1].pose.position
+        shift = math.sqrt(t.x ** 2 + t.y ** 2 + t.z ** 2)
+        findings["headset_shift_m"] = round(shift, 4)
+        check(shift < 0.05, f"the same view twice should put the headset at the robot camera, "
+                            f"not {shift:.3f} m away")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--vref-ros2", required=True)
     ap.add_argument("--config", required=True)
     ap.add_argument("--scene", required=True, help="folder with rgb.raw, depth.raw, frame.json")
     ap.add_argument("--log", required=True, help="where vref-ros2's log goes")
+    ap.add_argument("--pointing", action="store_true",
+                    help="the headset scenario (pointing_scenario)")
     args = ap.parse_args()
 
     # /proc/net/dev belongs to this process's network namespace (/sys/class/net
@@ -76,6 +283,11 @@ def main():
     with open(os.path.join(args.scene, "depth.raw"), "rb") as f:
         depth = f.read()
     assert len(rgb) == w * h * 3 and len(depth) == w * h * 2
+    labels = None
+    if args.pointing:
+        with open(os.path.join(args.scene, "labels.raw"), "rb") as f:
+            labels = f.read()
+        assert len(labels) == w * h * 2
 
     log = open(args.log, "wb")
     env = dict(os.environ, RUST_LOG="info,rustdds=error,ros2_client=error")
@@ -142,73 +354,14 @@ def main():
                     return True
             return until is None
 
-        def robot_markers(m):
-            return [k for k in m.markers if k.ns == "robot"]
-
-        # 1. Markers with the robot's objects.
-        started = time.monotonic()
-        got = run_for(40.0, until=lambda: any(robot_markers(m) for _, m in arrays))
-        findings["first_markers_s"] = round(time.monotonic() - started, 2)
-        if check(got, "no MarkerArray with robot objects within 40 s"):
-            last = [m for _, m in arrays if robot_markers(m)][-1]
-            objects = robot_markers(last)
-            findings["robot_objects"] = len(objects)
-            check(objects[0].header.frame_id == "camera_color_optical_frame",
-                  f"marker frame {objects[0].header.frame_id}")
-            check(all(0.1 < k.pose.position.z < 5.0 for k in objects),
-                  "robot objects should be 0.1-5 m in front of the camera")
-            check(last.markers[0].action == 3, "the array should start with DELETEALL")
-
-        # 2. The service.
-        check(trigger.wait_for_service(timeout_sec=20.0), "service not available in 20 s")
-        future = trigger.call_async(Trigger.Request())
-        run_for(10.0, until=future.done)
-        if check(future.done(), "no service reply within 10 s"):
-            reply = future.result()
-            check("\n" not in reply.message, "reply message must be one line")
-            answer = json.loads(reply.message)
-            findings["service_status"] = answer.get("status")
-            check(reply.success == (answer.get("status") == "ok"),
-                  f"success {reply.success} for status {answer.get('status')}")
-
-        # 3. Malformed messages, then good frames again.
-        now = node.get_clock().now().to_msg()
-        colour_pub.publish(image(now, "rgba8", rgb, w * 3))                 # encoding
-        colour_pub.publish(image(now, "rgb8", rgb, w * 3 - 1))             # step too short
-        colour_pub.publish(image(now, "rgb8", rgb[: w * 3 * (h - 1)], w * 3))  # data too short
-        colour_pub.publish(image(now, "rgb8", rgb[:30], 60000, 20000, 20000))  # 20000x20000
-        time.sleep(0.05)
-        info_pub.publish(info(now, 0.0))                                    # fx 0
-        time.sleep(0.05)
-        info_pub.publish(info(now, float("nan")))                           # fx NaN
-        time.sleep(0.05)
-        old = node.get_clock().now().to_msg()
-        old.sec -= 100
-        depth_pub.publish(image(old, "16UC1", depth, w * 2))                # backwards
-        time.sleep(0.2)
-        before = len([1 for _, m in arrays if robot_markers(m)])
-        mark = time.monotonic()
-        run_for(15.0, until=lambda: len([1 for t, m in arrays
-                                         if t > mark and robot_markers(m)]) >= 3)
-        after = len([1 for t, m in arrays if t > mark and robot_markers(m)])
-        findings["arrays_after_malformed"] = after
-        check(after >= 3, f"good frames stopped after the malformed ones ({before} before)")
-        # 4. CDR: vref's bytes against rclpy's serialisation of the same message.
-        if check(raw, "no raw MarkerArray bytes"):
-            blob = raw[-1]
-            again = serialize_message(deserialize_message(blob, MarkerArray))
-            findings["cdr_bytes"] = len(blob)
-            a, b = bytes(blob), bytes(again)
-            first = next((i for i in range(min(len(a), len(b))) if a[i] != b[i]), min(len(a), len(b)))
-            # RustDDS pads a payload to a multiple of 4 bytes with zeros and
-            # does not declare them in the encapsulation options (rclpy reads
-            # it all the same): equal up to those, and the count is reported.
-            findings["cdr_trailing_padding"] = len(a) - len(b)
-            same = a[:len(b)] == b and 0 <= len(a) - len(b) < 4 and not any(a[len(b):])
-            check(same, f"CDR differs: vref {len(a)} bytes, rclpy {len(b)} bytes, from byte "
-                          f"{first}: vref {a[first:first+8].hex()} rclpy {b[first:first+8].hex()}; "
-                          f"heads {a[:8].hex()} {b[:8].hex()}")
-
+        ctx = Ctx(node=node, findings=findings, frame=frame, w=w, h=h, rgb=rgb, depth=depth,
+                  image=image, info=info, good_frame=good_frame, run_for=run_for,
+                  arrays=arrays, raw=raw, trigger=trigger, colour_pub=colour_pub,
+                  depth_pub=depth_pub, info_pub=info_pub, args=args, labels=labels)
+        if args.pointing:
+            pointing_scenario(ctx)
+        else:
+            camera_scenario(ctx)
     finally:
         node.destroy_node()
         rclpy.shutdown()
@@ -221,7 +374,9 @@ def main():
         log.close()
     check(code == 0, f"vref-ros2 exit {code}")
     text = open(args.log, errors="replace").read()
-    for reason in ["encoding", "step", "data_size", "too_large", "intrinsics", "stamp_backwards"]:
+    reasons = [] if args.pointing else [
+        "encoding", "step", "data_size", "too_large", "intrinsics", "stamp_backwards"]
+    for reason in reasons:
         check(f"reason=\"{reason}\"" in text or f"reason={reason}" in text,
               f"vref-ros2's log does not name {reason}")
     findings["failures"] = FAILURES
