@@ -12,6 +12,7 @@ use iceoryx2::prelude::*;
 use image::RgbImage;
 use ros2_client::{
     Context, ContextOptions, Name, NodeName, NodeOptions, QosProfile, ServiceMapping, Subscription,
+    qos::Durability,
 };
 use vref_config::Config;
 use vref_perception::{DepthImage, Intrinsics, LabelImage};
@@ -422,15 +423,19 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
     let markers_pub = ros_node
         .create_publisher::<msg::MarkerArray>(&markers_topic, Some(reliable.clone()))
         .map_err(|e| ros("markers publisher")(&e))?;
+    // Each answer is published once: transient local keeps the latest for
+    // a subscriber that matches later (a restarted listener, or this
+    // process restarted and answering before discovery completes).
+    let latched = reliable.clone().durability(Durability::TransientLocal);
     let point_topic = ros_node
         .create_topic(
             &name(&s.referenced_object_topic)?,
             msg::point_stamped_type(),
-            &reliable,
+            &latched,
         )
         .map_err(|e| ros("referenced object topic")(&e))?;
     let point_pub = ros_node
-        .create_publisher::<msg::PointStamped>(&point_topic, Some(reliable.clone()))
+        .create_publisher::<msg::PointStamped>(&point_topic, Some(latched.clone()))
         .map_err(|e| ros("referenced object publisher")(&e))?;
     let pose_topic = ros_node
         .create_topic(

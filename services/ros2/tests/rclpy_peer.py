@@ -135,6 +135,7 @@ def pointing_scenario(c):
     and the headset pose (about the identity) must arrive over ROS 2."""
     import numpy as np
     from rclpy.qos import qos_profile_sensor_data, QoSProfile, ReliabilityPolicy, HistoryPolicy
+    from rclpy.qos import DurabilityPolicy
     from sensor_msgs.msg import Image, CameraInfo
     from geometry_msgs.msg import PoseStamped, PointStamped
     from std_srvs.srv import Trigger
@@ -169,82 +170,116 @@ def pointing_scenario(c):
     q = np.array([0.0, -d[2], d[1], 1.0 + d[0]])
     q /= np.linalg.norm(q)
 
+    import rclpy
+    from rclpy.node import Node
     sensor = qos_profile_sensor_data
     reliable = QoSProfile(reliability=ReliabilityPolicy.RELIABLE,
                           history=HistoryPolicy.KEEP_LAST, depth=10)
-    pubs = {
-        "robot_labels": node.create_publisher(Image, "/camera/camera/labels", sensor),
-        "h_colour": node.create_publisher(Image, "/headset/color/image_raw", sensor),
-        "h_depth": node.create_publisher(Image, "/headset/depth/image_raw", sensor),
-        "h_info": node.create_publisher(CameraInfo, "/headset/color/camera_info", sensor),
-        "h_labels": node.create_publisher(Image, "/headset/labels", sensor),
-        "pointing": node.create_publisher(PoseStamped, "/headset/pointing", reliable),
-    }
-    points, poses = [], []
-    node.create_subscription(PointStamped, "/vref/referenced_object", points.append, reliable)
-    node.create_subscription(PoseStamped, "/vref/headset_pose", poses.append, reliable)
 
-    def both_cameras():
-        stamp = node.get_clock().now().to_msg()
-        c.info_pub.publish(c.info(stamp, fx))
-        c.colour_pub.publish(c.image(stamp, "rgb8", c.rgb, w * 3))
-        c.depth_pub.publish(c.image(stamp, "16UC1", c.depth, w * 2))
-        pubs["robot_labels"].publish(c.image(stamp, "16UC1", c.labels, w * 2))
-        pubs["h_info"].publish(c.info(stamp, fx))
-        pubs["h_colour"].publish(c.image(stamp, "rgb8", c.rgb, w * 3))
-        pubs["h_depth"].publish(c.image(stamp, "16UC1", c.depth, w * 2))
-        pubs["h_labels"].publish(c.image(stamp, "16UC1", c.labels, w * 2))
-        p = PoseStamped()
-        p.header.stamp = stamp
-        p.header.frame_id = "headset_camera"
-        p.pose.orientation.x, p.pose.orientation.y = float(q[0]), float(q[1])
-        p.pose.orientation.z, p.pose.orientation.w = float(q[2]), float(q[3])
-        pubs["pointing"].publish(p)
+    def session(name, need_point, limit):
+        """A fresh rclpy context and node (a new DDS participant, as a
+        restarted peer is) publishing both cameras and the pointing pose
+        until the service answers ok and the outputs arrived, or `limit`
+        seconds; the context is shut down at the end."""
+        from rclpy.context import Context
+        from rclpy.executors import SingleThreadedExecutor
+        context = Context()
+        rclpy.init(context=context)
+        node = Node(name, context=context)
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(node)
+        pubs = {
+            "info": node.create_publisher(CameraInfo, "/camera/camera/color/camera_info", sensor),
+            "colour": node.create_publisher(Image, "/camera/camera/color/image_raw", sensor),
+            "depth": node.create_publisher(
+                Image, "/camera/camera/aligned_depth_to_color/image_raw", sensor),
+            "labels": node.create_publisher(Image, "/camera/camera/labels", sensor),
+            "h_colour": node.create_publisher(Image, "/headset/color/image_raw", sensor),
+            "h_depth": node.create_publisher(Image, "/headset/depth/image_raw", sensor),
+            "h_info": node.create_publisher(CameraInfo, "/headset/color/camera_info", sensor),
+            "h_labels": node.create_publisher(Image, "/headset/labels", sensor),
+            "pointing": node.create_publisher(PoseStamped, "/headset/pointing", reliable),
+        }
+        points, poses = [], []
+        # vref-ros2 keeps its latest referenced object for late subscribers.
+        latched = QoSProfile(reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                             history=HistoryPolicy.KEEP_LAST, depth=1)
+        node.create_subscription(PointStamped, "/vref/referenced_object", points.append, latched)
+        node.create_subscription(PoseStamped, "/vref/headset_pose", poses.append, reliable)
+        trigger = node.create_client(Trigger, "/vref/latest_gesture")
 
-    import rclpy
-    check(c.trigger.wait_for_service(timeout_sec=20.0), "service not available in 20 s")
-    started = time.monotonic()
-    end = started + 45.0
-    next_frame = started
-    future, replies = None, []
-    while time.monotonic() < end:
-        now = time.monotonic()
-        if now >= next_frame:
-            both_cameras()
-            next_frame += 0.1
-        if future is None:
-            future = c.trigger.call_async(Trigger.Request())
-        elif future.done():
-            replies.append(future.result())
-            future = None
-            if replies[-1].success and points and poses:
-                break
-        rclpy.spin_once(node, timeout_sec=0.01)
-    findings["ok_after_s"] = round(time.monotonic() - started, 2)
-    findings["replies"] = len(replies)
-    if check(replies, "no service reply"):
-        last = replies[-1]
-        answer = json.loads(last.message)
-        findings["service_status"] = answer.get("status")
-        findings["confidence"] = answer.get("confidence")
-        check(last.success and answer.get("status") == "ok",
-              f"no ok answer within 45 s (last: {last.message})")
-        check(answer.get("robot_track_id") == target,
-              f"answered robot object {answer.get('robot_track_id')}, pointed at {target}")
-    if check(points, "no PointStamped on /vref/referenced_object"):
-        p = points[-1]
-        at = np.array([p.point.x, p.point.y, p.point.z])
-        off = float(np.linalg.norm(at - seen[target][1]))
-        findings["point_off_surface_m"] = round(off, 3)
-        check(p.header.frame_id == "camera_color_optical_frame", f"point frame {p.header.frame_id}")
-        # The front end puts the object's centre behind its visible surface.
-        check(off < 0.15, f"referenced point {at} is {off:.3f} m from the object's surface")
-    if check(poses, "no PoseStamped on /vref/headset_pose"):
-        t = poses[-1].pose.position
-        shift = math.sqrt(t.x ** 2 + t.y ** 2 + t.z ** 2)
-        findings["headset_shift_m"] = round(shift, 4)
-        check(shift < 0.05, f"the same view twice should put the headset at the robot camera, "
-                            f"not {shift:.3f} m away")
+        def both_cameras():
+            stamp = node.get_clock().now().to_msg()
+            for prefix in ["", "h_"]:
+                pubs[prefix + "info"].publish(c.info(stamp, fx))
+                pubs[prefix + "colour"].publish(c.image(stamp, "rgb8", c.rgb, w * 3))
+                pubs[prefix + "depth"].publish(c.image(stamp, "16UC1", c.depth, w * 2))
+                pubs[prefix + "labels"].publish(c.image(stamp, "16UC1", c.labels, w * 2))
+            p = PoseStamped()
+            p.header.stamp = stamp
+            p.header.frame_id = "headset_camera"
+            p.pose.orientation.x, p.pose.orientation.y = float(q[0]), float(q[1])
+            p.pose.orientation.z, p.pose.orientation.w = float(q[2]), float(q[3])
+            pubs["pointing"].publish(p)
+
+        started = time.monotonic()
+        end = started + limit
+        next_frame = started
+        future, future_at, replies = None, 0.0, []
+        while time.monotonic() < end:
+            now = time.monotonic()
+            if now >= next_frame:
+                both_cameras()
+                next_frame += 0.1
+            if future is None and trigger.service_is_ready() and now - future_at > 0.2:
+                future, future_at = trigger.call_async(Trigger.Request()), now
+            elif future is not None and future.done():
+                replies.append(future.result())
+                future = None
+                if replies[-1].success and poses and (points or not need_point):
+                    break
+            elif future is not None and now - future_at > 5.0:
+                # A request to a vref-ros2 that died is never answered.
+                trigger.remove_pending_request(future)
+                future = None
+            executor.spin_once(timeout_sec=0.01)
+        out = {"ok_after_s": round(time.monotonic() - started, 2), "replies": len(replies)}
+        if check(replies, f"{name}: no service reply"):
+            answer = json.loads(replies[-1].message)
+            out["status"] = answer.get("status")
+            check(replies[-1].success and answer.get("status") == "ok",
+                  f"{name}: no ok answer within {limit} s (last: {replies[-1].message})")
+            check(answer.get("robot_track_id") == target,
+                  f"{name}: answered robot object {answer.get('robot_track_id')}, "
+                  f"pointed at {target}")
+        if need_point and check(points, f"{name}: no PointStamped on /vref/referenced_object"):
+            p = points[-1]
+            at = np.array([p.point.x, p.point.y, p.point.z])
+            off = float(np.linalg.norm(at - seen[target][1]))
+            out["point_off_surface_m"] = round(off, 3)
+            check(p.header.frame_id == "camera_color_optical_frame",
+                  f"{name}: point frame {p.header.frame_id}")
+            # The front end puts the object's centre behind its visible surface.
+            check(off < 0.15, f"{name}: referenced point {at} is {off:.3f} m from the surface")
+        if check(poses, f"{name}: no PoseStamped on /vref/headset_pose"):
+            t = poses[-1].pose.position
+            shift = math.sqrt(t.x ** 2 + t.y ** 2 + t.z ** 2)
+            out["headset_shift_m"] = round(shift, 4)
+            check(shift < 0.05, f"{name}: the same view twice should put the headset at the "
+                                f"robot camera, not {shift:.3f} m away")
+        executor.shutdown()
+        node.destroy_node()
+        context.try_shutdown()
+        return out
+
+    findings["first"] = session("vref_test_peer", True, 45.0)
+    # The peer restarts: a new context, so a new participant. vref-ros2 published this pair's
+    # point before; it is kept for late subscribers (transient local).
+    findings["peer_restarted"] = session("vref_test_peer_again", True, 30.0)
+    # vref-ros2 crashes and is started again.
+    c.restart_vref()
+    findings["vref_ros2_restarted"] = session("vref_test_peer_third", True, 30.0)
 
 
 def main():
@@ -291,8 +326,16 @@ def main():
 
     log = open(args.log, "wb")
     env = dict(os.environ, RUST_LOG="info,rustdds=error,ros2_client=error")
-    vref = subprocess.Popen([args.vref_ros2, "--config", args.config],
-                            stdout=log, stderr=subprocess.STDOUT, env=env)
+    procs = [subprocess.Popen([args.vref_ros2, "--config", args.config],
+                              stdout=log, stderr=subprocess.STDOUT, env=env)]
+
+    def restart_vref():
+        """SIGKILL, as a crash would, and start a new vref-ros2."""
+        procs[0].kill()
+        procs[0].wait(timeout=10)
+        procs[0] = subprocess.Popen([args.vref_ros2, "--config", args.config],
+                                    stdout=log, stderr=subprocess.STDOUT, env=env)
+
     findings = {}
     rclpy.init()
     node = Node("vref_test_camera")
@@ -357,7 +400,8 @@ def main():
         ctx = Ctx(node=node, findings=findings, frame=frame, w=w, h=h, rgb=rgb, depth=depth,
                   image=image, info=info, good_frame=good_frame, run_for=run_for,
                   arrays=arrays, raw=raw, trigger=trigger, colour_pub=colour_pub,
-                  depth_pub=depth_pub, info_pub=info_pub, args=args, labels=labels)
+                  depth_pub=depth_pub, info_pub=info_pub, args=args, labels=labels,
+                  restart_vref=restart_vref)
         if args.pointing:
             pointing_scenario(ctx)
         else:
@@ -365,6 +409,7 @@ def main():
     finally:
         node.destroy_node()
         rclpy.shutdown()
+        vref = procs[0]
         vref.send_signal(signal.SIGINT)
         try:
             code = vref.wait(timeout=10)
