@@ -5,6 +5,7 @@
 //! so nothing queues up behind a slow step.
 
 use std::collections::BTreeMap;
+use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use iceoryx2::port::subscriber::Subscriber;
@@ -12,15 +13,15 @@ use iceoryx2::prelude::*;
 use image::RgbImage;
 use ros2_client::{
     Context, ContextOptions, Name, NodeName, NodeOptions, QosProfile, ServiceMapping, Subscription,
-    qos::Durability,
+    qos::Durability, request_id::RmwRequestId,
 };
 use vref_config::Config;
 use vref_perception::{DepthImage, Intrinsics, LabelImage};
 use vref_scene::Side;
 use vref_view::{Asked, View};
 use vref_wire::ipc::{
-    Decision, GesturePublisher, IpcError, ReferenceClient, SnapshotPublisher, create_node, nap,
-    now_ns, open_decision, open_snapshot,
+    Decision, GesturePublisher, IpcError, IpcSettings, ReferenceClient, SnapshotPublisher,
+    create_node, nap, now_ns, open_decision, open_snapshot,
 };
 use vref_wire::{DecisionEntry, DecisionHeader, ObjectEntry, SnapshotHeader};
 
@@ -291,6 +292,92 @@ pub fn ray_of(pose: &msg::Pose) -> Option<([f32; 3], [f32; 3])> {
     Some(([p.x as f32, p.y as f32, p.z as f32], d.map(|v| v as f32)))
 }
 
+/// Who an answer is for.
+#[derive(Debug, Clone, Copy)]
+enum AskFor {
+    /// The periodic ask behind `/vref/referenced_object` and the markers.
+    Topic,
+    /// A service request, answered with this id.
+    Service(RmwRequestId),
+}
+
+/// The matcher is asked on a thread of its own, so that a matcher that is
+/// slow to answer never holds camera frames back: the loop hands it
+/// service requests and takes finished answers, and it asks for the
+/// topic every `period` by itself.
+struct Asker {
+    requests: mpsc::Sender<RmwRequestId>,
+    answers: mpsc::Receiver<(AskFor, Result<Asked, String>)>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Asker {
+    fn start(ipc: &IpcSettings, period: Duration, timeout: Duration) -> Result<Self, BridgeError> {
+        let (requests, wanted) = mpsc::channel::<RmwRequestId>();
+        let (done, answers) = mpsc::channel();
+        let (ready_tx, ready) = mpsc::channel();
+        let ipc = ipc.clone();
+        let thread = std::thread::Builder::new()
+            .name("vref-ros2-ask".to_owned())
+            .spawn(move || {
+                // iceoryx2 ports stay on the thread that made them.
+                let mut client = match ReferenceClient::connect(&ipc, "vref-ros2-client") {
+                    Ok(c) => {
+                        ready_tx.send(Ok(())).ok();
+                        c
+                    }
+                    Err(e) => {
+                        ready_tx.send(Err(e)).ok();
+                        return;
+                    }
+                };
+                let mut next = Instant::now();
+                loop {
+                    let wait = next.saturating_duration_since(Instant::now());
+                    let who = match wanted.recv_timeout(wait) {
+                        Ok(id) => AskFor::Service(id),
+                        Err(mpsc::RecvTimeoutError::Timeout) => {
+                            next = Instant::now() + period;
+                            AskFor::Topic
+                        }
+                        Err(mpsc::RecvTimeoutError::Disconnected) => return,
+                    };
+                    let result = ask(&mut client, timeout).map_err(|e| e.to_string());
+                    if done.send((who, result)).is_err() {
+                        return;
+                    }
+                }
+            })
+            .map_err(|e| ros("asking thread")(&e))?;
+        match ready.recv() {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => return Err(BridgeError::Ipc(e)),
+            Err(_) => {
+                return Err(BridgeError::Ros {
+                    what: "asking thread".to_owned(),
+                    message: "ended before connecting".to_owned(),
+                });
+            }
+        }
+        Ok(Self {
+            requests,
+            answers,
+            thread: Some(thread),
+        })
+    }
+}
+
+impl Drop for Asker {
+    fn drop(&mut self) {
+        // Closing the request channel ends the thread after its current ask.
+        let (closed, _) = mpsc::channel();
+        self.requests = closed;
+        if let Some(t) = self.thread.take() {
+            t.join().ok();
+        }
+    }
+}
+
 /// Runs until SIGINT or SIGTERM.
 pub fn run(config: &Config) -> Result<Counts, BridgeError> {
     let s = &config.ros2;
@@ -320,7 +407,6 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
             what: "creating decision subscriber".to_owned(),
             message: format!("{e:?}"),
         })?;
-    let mut client = ReferenceClient::connect(ipc, "vref-ros2-client")?;
 
     let context = Context::with_options(ContextOptions::new().domain_id(domain))
         .map_err(|e| ros("DDS participant")(&e))?;
@@ -487,7 +573,7 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
     let answer_period = Duration::from_secs_f64(1.0 / s.answer_rate_hz);
     let query_timeout = Duration::from_millis(s.query_timeout_ms);
     let mut last_markers: Option<Instant> = None;
-    let mut last_ask: Option<Instant> = None;
+    let asker = Asker::start(ipc, answer_period, query_timeout)?;
     let mut last_summary = Instant::now();
 
     while nap(&node, TURN) {
@@ -555,35 +641,16 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
             }
         }
 
-        // Answers: the latest gesture, now and then; a new ok one goes out.
-        if last_ask.is_none_or(|t| t.elapsed() >= answer_period) {
-            last_ask = Some(Instant::now());
-            if let Ok(asked) = ask(&mut client, query_timeout) {
-                if news.is_new(&asked.answer)
-                    && let Some(p) =
-                        referenced_point(&asked.answer, &s.robot_frame_id, Time::from_ns(now_ns()))
-                {
-                    match point_pub.publish(p) {
-                        Ok(()) => counts.referenced += 1,
-                        Err(e) => tracing::warn!("publishing the referenced object: {e:?}"),
-                    }
-                }
-                if answer.is_none_or(|a| a.answer != asked.answer) {
-                    scene_changed = true;
-                }
-                answer = Some(asked);
-            }
-        }
+        // Service requests go to the asking thread; answers come back.
         loop {
             match server.receive_request() {
                 Ok(Some((id, _))) => {
                     counts.service_calls += 1;
-                    let reply = match ask(&mut client, query_timeout) {
-                        Ok(asked) => trigger_response(&asked),
-                        Err(e) => trigger_failure(&e.to_string()),
-                    };
-                    if let Err(e) = server.send_response(id, reply) {
-                        tracing::warn!("answering the service: {e:?}");
+                    if asker.requests.send(id).is_err() {
+                        let reply = trigger_failure("vref-ros2's asking thread stopped");
+                        if let Err(e) = server.send_response(id, reply) {
+                            tracing::warn!("answering the service: {e:?}");
+                        }
                     }
                 }
                 Ok(None) => break,
@@ -592,6 +659,35 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
                     break;
                 }
             }
+        }
+        while let Ok((who, result)) = asker.answers.try_recv() {
+            match who {
+                AskFor::Service(id) => {
+                    let reply = match &result {
+                        Ok(asked) => trigger_response(asked),
+                        Err(e) => trigger_failure(e),
+                    };
+                    if let Err(e) = server.send_response(id, reply) {
+                        tracing::warn!("answering the service: {e:?}");
+                    }
+                }
+                AskFor::Topic => {}
+            }
+            let Ok(asked) = result else { continue };
+            // A new ok answer goes out once, whoever asked.
+            if news.is_new(&asked.answer)
+                && let Some(p) =
+                    referenced_point(&asked.answer, &s.robot_frame_id, Time::from_ns(now_ns()))
+            {
+                match point_pub.publish(p) {
+                    Ok(()) => counts.referenced += 1,
+                    Err(e) => tracing::warn!("publishing the referenced object: {e:?}"),
+                }
+            }
+            if answer.is_none_or(|a| a.answer != asked.answer) {
+                scene_changed = true;
+            }
+            answer = Some(asked);
         }
 
         if scene_changed && last_markers.is_none_or(|t| t.elapsed() >= marker_period) {

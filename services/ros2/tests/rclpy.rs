@@ -67,7 +67,7 @@ fn write_scene(dir: &Path, name: &str) {
 
 #[test]
 fn rclpy_camera_gets_markers_and_answers_and_malformed_messages_are_skipped() {
-    run_peer("learn3", "", &[]);
+    run_peer("learn3", "", &["--stop-matcher"]);
 }
 
 /// The headset's camera and a pointing pose over ROS 2 too: the same OSD
@@ -89,7 +89,8 @@ pointing_cone_deg = 3.0
 
 /// Runs rclpy_peer.py (and, from it, vref-ros2) in a loopback-only network
 /// namespace, with a matcher, on OSD scene `scene`; `extra` is appended to
-/// the configuration.
+/// the configuration. `--stop-matcher` hands the peer the matcher's pid,
+/// which it stops (SIGSTOP) for a while and continues.
 fn run_peer(scene: &str, extra: &str, peer_args: &[&str]) {
     let python = std::env::var("VREF_ROS2_PYTHON").unwrap_or_else(|_| {
         panic!("VREF_ROS2_PYTHON is not set: run tools/test.sh, which installs rclpy in target/ros2-venv")
@@ -117,7 +118,7 @@ fn run_peer(scene: &str, extra: &str, peer_args: &[&str]) {
         matcher.display()
     );
     let matcher_log = std::fs::File::create(dir.path().join("matcher.log")).unwrap();
-    let _matcher = Guard(
+    let matcher = Guard(
         Command::new(&matcher)
             .arg("--config")
             .arg(&config)
@@ -128,6 +129,7 @@ fn run_peer(scene: &str, extra: &str, peer_args: &[&str]) {
             .unwrap(),
     );
 
+    let matcher_pid = matcher.0.id();
     let ros_log = dir.path().join("vref-ros2.log");
     let peer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/rclpy_peer.py");
     // A network namespace with loopback only, and multicast routed on it
@@ -152,7 +154,14 @@ fn run_peer(scene: &str, extra: &str, peer_args: &[&str]) {
             .arg(dir.path())
             .arg("--log")
             .arg(&ros_log)
-            .args(peer_args)
+            .args(peer_args.iter().filter(|a| **a != "--stop-matcher"))
+            .args(
+                peer_args
+                    .contains(&"--stop-matcher")
+                    .then(|| ["--matcher-pid".to_owned(), matcher_pid.to_string()])
+                    .into_iter()
+                    .flatten(),
+            )
             .env("ROS_DOMAIN_ID", "17")
             .stdin(Stdio::null())
             .stdout(Stdio::piped())

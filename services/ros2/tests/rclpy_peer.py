@@ -52,7 +52,7 @@ def robot_markers(m):
 
 
 def camera_scenario(c):
-    """Markers, the service, malformed messages, CDR bytes."""
+    """Markers, the service, malformed messages, a stopped matcher, CDR bytes."""
     import rclpy  # noqa: F401
     from rclpy.serialization import serialize_message, deserialize_message
     from visualization_msgs.msg import MarkerArray
@@ -109,6 +109,27 @@ def camera_scenario(c):
     after = len([1 for t, m in arrays if t > mark and robot_markers(m)])
     findings["arrays_after_malformed"] = after
     check(after >= 3, f"good frames stopped after the malformed ones ({before} before)")
+    # A matcher that stops answering (SIGSTOP) must not hold frames back:
+    # markers keep coming at the frame rate, and the service says so.
+    if c.args.matcher_pid:
+        os.kill(c.args.matcher_pid, signal.SIGSTOP)
+        try:
+            mark = time.monotonic()
+            future = trigger.call_async(Trigger.Request())
+            run_for(3.0)
+            stalled = len([1 for t, m in arrays if t > mark and robot_markers(m)])
+            findings["arrays_in_3s_matcher_stopped"] = stalled
+            check(stalled >= 15, f"only {stalled} marker arrays in 3 s at 10 frames/s "
+                                 "while the matcher was stopped")
+            run_for(5.0, until=future.done)
+            if check(future.done(), "no service reply while the matcher was stopped"):
+                reply = json.loads(future.result().message)
+                findings["status_matcher_stopped"] = reply.get("status")
+                check(not future.result().success and reply.get("status") == "error",
+                      f"a stopped matcher should give status error, not {reply}")
+        finally:
+            os.kill(c.args.matcher_pid, signal.SIGCONT)
+
     # 4. CDR: vref's bytes against rclpy's serialisation of the same message.
     if check(raw, "no raw MarkerArray bytes"):
         blob = raw[-1]
@@ -288,6 +309,7 @@ def main():
     ap.add_argument("--config", required=True)
     ap.add_argument("--scene", required=True, help="folder with rgb.raw, depth.raw, frame.json")
     ap.add_argument("--log", required=True, help="where vref-ros2's log goes")
+    ap.add_argument("--matcher-pid", type=int, help="the matcher, stopped for a while (SIGSTOP)")
     ap.add_argument("--pointing", action="store_true",
                     help="the headset scenario (pointing_scenario)")
     args = ap.parse_args()
