@@ -8,8 +8,8 @@
 # Needs python3 (3.10 or newer) with the venv module, and PyPI for the
 # first run (iceoryx2 0.10.0, numpy, pytest, mypy, and mcap with
 # mcap-protobuf-support for tools/check-mcap.py, which tests/viewer.rs
-# runs on the files it records). Set VREF_VENV to put the environment
-# elsewhere (default target/python-venv).
+# runs on the files it records; the ROS 2 wheels below). Set VREF_VENV to
+# put the environment elsewhere (default target/python-venv).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -21,13 +21,27 @@ fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
   ./clients/python pytest==9.2.0 mypy==2.4.1 mcap==1.6.0 mcap-protobuf-support==0.6.0
 
+# vref-ros2's test talks to a genuine ROS 2 node: rclpy and the message
+# packages from the official ROS 2 (Kilted) wheels on PyPI, no ROS install
+# (about 270 MB, in a venv of its own; VREF_ROS2_VENV puts it elsewhere).
+# The test runs DDS inside a network namespace with loopback only, which
+# needs root (unshare --net) and iproute2.
+ros2_venv="${VREF_ROS2_VENV:-target/ros2-venv}"
+if [ ! -x "$ros2_venv/bin/python" ]; then
+  "$python" -m venv "$ros2_venv"
+fi
+"$ros2_venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+  'ros-rclpy[fastrtps]==9.1.2' ros-sensor-msgs==5.5.1 ros-geometry-msgs==5.5.1 \
+  ros-visualization-msgs==5.5.1 ros-std-srvs==5.5.1 numpy==2.4.6
+
 # The system tests start the service executables from target/debug; `cargo
 # test` builds a bin-only package's test harness, not its executable
 # (vref-bridge has no tests of its own), so build them all first.
 cargo build --workspace --locked --bins
 
 # The viewer's tests read their MCAP files with Python's mcap too.
-VREF_PYTHON="$(realpath "$venv/bin/python")" cargo test --workspace --locked --no-fail-fast
+VREF_PYTHON="$(realpath "$venv/bin/python")" \
+  VREF_ROS2_PYTHON="$(realpath "$ros2_venv/bin/python")" cargo test --workspace --locked --no-fail-fast
 
 # Every table of the README and docs/ is the one tools/tables.py makes from
 # docs/results/: a table edited by hand, or a result file changed without

@@ -4,6 +4,7 @@
 //! a default), and values are validated when loaded.
 
 mod bridge;
+mod ros2;
 
 use std::path::{Path, PathBuf};
 
@@ -17,6 +18,7 @@ use vref_wire::ipc::IpcSettings;
 pub use bridge::{
     BridgeSettings, StateEncoding, TRANSPORTS, ZenohMode, check_endpoint, check_prefix,
 };
+pub use ros2::{ROS_DOMAIN_ID_ENV, Ros2Settings};
 
 /// Environment variable naming a configuration file.
 pub const CONFIG_ENV: &str = "VREF_CONFIG";
@@ -81,6 +83,7 @@ pub struct Config {
     pub perception: PerceptionSettings,
     pub segmentation: SegmentationSettings,
     pub bridge: BridgeSettings,
+    pub ros2: Ros2Settings,
 }
 
 /// The `[feeds]` section: how the synthetic feeds publish.
@@ -343,7 +346,10 @@ impl Config {
         }
         self.bridge
             .check()
-            .map_err(|message| section("bridge", message))
+            .map_err(|message| section("bridge", message))?;
+        self.ros2
+            .check()
+            .map_err(|message| section("ros2", message))
     }
 }
 

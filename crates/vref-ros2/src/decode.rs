@@ -1,0 +1,406 @@
+//! ROS images and camera models to the front end's types, refusing what
+//! does not add up before a pixel is read: a message is a claim by
+//! another process, and a wrong claim (size, step, encoding) must give a
+//! reason, not a panic or a garbled frame.
+
+use image::{ImageBuffer, Luma, RgbImage};
+use vref_perception::{DepthImage, DepthPixels, FrameError, Intrinsics, LabelImage};
+
+use crate::msg::{CameraInfo, Image};
+
+/// Millimetres: what 16UC1 depth counts, and what 32FC1 metres become.
+pub const DEPTH_UNIT_M: f64 = 0.001;
+
+/// Which stream a message came on, for counting and logs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Stream {
+    Colour,
+    Depth,
+    Labels,
+    CameraInfo,
+}
+
+impl Stream {
+    pub const ALL: [Stream; 4] = [
+        Stream::Colour,
+        Stream::Depth,
+        Stream::Labels,
+        Stream::CameraInfo,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Stream::Colour => "colour",
+            Stream::Depth => "depth",
+            Stream::Labels => "labels",
+            Stream::CameraInfo => "camera_info",
+        }
+    }
+}
+
+/// Why a message was skipped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DecodeError {
+    #[error("encoding {found:?} is not supported for {stream} (supported: {supported})")]
+    Encoding {
+        stream: &'static str,
+        found: String,
+        supported: &'static str,
+    },
+    #[error("the image is {width}x{height}, larger than the {max_width}x{max_height} allowed")]
+    TooLarge {
+        width: u32,
+        height: u32,
+        max_width: u32,
+        max_height: u32,
+    },
+    #[error("the image is {width}x{height}: empty")]
+    Empty { width: u32, height: u32 },
+    #[error("step {step} is less than width {width} x {bytes_per_pixel} bytes")]
+    Step {
+        step: u32,
+        width: u32,
+        bytes_per_pixel: u32,
+    },
+    #[error("data holds {found} bytes, step {step} x height {height} is {expected}")]
+    DataSize {
+        found: usize,
+        step: u32,
+        height: u32,
+        expected: u64,
+    },
+    #[error("camera info: {0}")]
+    Intrinsics(#[source] FrameError),
+    #[error("camera info is for {info_width}x{info_height}, the colour image is {width}x{height}")]
+    InfoSize {
+        info_width: u32,
+        info_height: u32,
+        width: u32,
+        height: u32,
+    },
+    #[error("header stamp {sec} s {nanosec} ns is before the Unix epoch or not a time")]
+    Stamp { sec: i32, nanosec: u32 },
+    #[error("stamp {stamp_ns} ns is older than the last one on this topic ({last_ns} ns)")]
+    Backwards { stamp_ns: u64, last_ns: u64 },
+}
+
+impl DecodeError {
+    /// A short name per kind, for counters.
+    pub fn reason(&self) -> &'static str {
+        match self {
+            DecodeError::Encoding { .. } => "encoding",
+            DecodeError::TooLarge { .. } => "too_large",
+            DecodeError::Empty { .. } => "empty",
+            DecodeError::Step { .. } => "step",
+            DecodeError::DataSize { .. } => "data_size",
+            DecodeError::Intrinsics(_) => "intrinsics",
+            DecodeError::InfoSize { .. } => "info_size",
+            DecodeError::Stamp { .. } => "stamp",
+            DecodeError::Backwards { .. } => "stamp_backwards",
+        }
+    }
+}
+
+/// The largest image accepted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MaxSize {
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Checks size, step and data length for `bytes_per_pixel`, and returns
+/// the step as a usize.
+fn check_layout(image: &Image, bytes_per_pixel: u32, max: MaxSize) -> Result<usize, DecodeError> {
+    let (width, height) = (image.width, image.height);
+    if width > max.width || height > max.height {
+        return Err(DecodeError::TooLarge {
+            width,
+            height,
+            max_width: max.width,
+            max_height: max.height,
+        });
+    }
+    if width == 0 || height == 0 {
+        return Err(DecodeError::Empty { width, height });
+    }
+    if u64::from(image.step) < u64::from(width) * u64::from(bytes_per_pixel) {
+        return Err(DecodeError::Step {
+            step: image.step,
+            width,
+            bytes_per_pixel,
+        });
+    }
+    let expected = u64::from(image.step) * u64::from(height);
+    if image.data.len() as u64 != expected {
+        return Err(DecodeError::DataSize {
+            found: image.data.len(),
+            step: image.step,
+            height,
+            expected,
+        });
+    }
+    Ok(image.step as usize)
+}
+
+/// The rows of `image`, each cut to `row_bytes` (a step may pad rows).
+fn rows(image: &Image, step: usize, row_bytes: usize) -> impl Iterator<Item = &[u8]> {
+    image.data.chunks_exact(step).map(move |r| &r[..row_bytes])
+}
+
+/// A colour image (rgb8 or bgr8).
+pub fn colour(image: &Image, max: MaxSize) -> Result<RgbImage, DecodeError> {
+    let bgr = match image.encoding.as_str() {
+        "rgb8" => false,
+        "bgr8" => true,
+        other => {
+            return Err(DecodeError::Encoding {
+                stream: "colour",
+                found: other.to_owned(),
+                supported: "rgb8, bgr8",
+            });
+        }
+    };
+    let step = check_layout(image, 3, max)?;
+    let row_bytes = image.width as usize * 3;
+    let mut pixels = Vec::with_capacity(row_bytes * image.height as usize);
+    for row in rows(image, step, row_bytes) {
+        if bgr {
+            for px in row.chunks_exact(3) {
+                pixels.extend_from_slice(&[px[2], px[1], px[0]]);
+            }
+        } else {
+            pixels.extend_from_slice(row);
+        }
+    }
+    ImageBuffer::from_raw(image.width, image.height, pixels).ok_or(DecodeError::DataSize {
+        found: image.data.len(),
+        step: image.step,
+        height: image.height,
+        expected: u64::from(image.step) * u64::from(image.height),
+    })
+}
+
+/// 16-bit values of a 16UC1/mono16 image, in either byte order.
+fn sixteen_bit(
+    image: &Image,
+    stream: &'static str,
+    max: MaxSize,
+) -> Result<ImageBuffer<Luma<u16>, Vec<u16>>, DecodeError> {
+    let step = check_layout(image, 2, max)?;
+    let row_bytes = image.width as usize * 2;
+    let big = image.is_bigendian != 0;
+    let mut values = Vec::with_capacity(image.width as usize * image.height as usize);
+    for row in rows(image, step, row_bytes) {
+        values.extend(row.chunks_exact(2).map(|b| {
+            let b = [b[0], b[1]];
+            if big {
+                u16::from_be_bytes(b)
+            } else {
+                u16::from_le_bytes(b)
+            }
+        }));
+    }
+    ImageBuffer::from_raw(image.width, image.height, values).ok_or(DecodeError::Encoding {
+        stream,
+        found: image.encoding.clone(),
+        supported: "16UC1, mono16",
+    })
+}
+
+/// A depth image: 16UC1 (or mono16) in millimetres, or 32FC1 in metres
+/// (converted to millimetres; NaN, infinite, negative and out-of-range
+/// readings become 0, "no reading", as the front end expects).
+pub fn depth(image: &Image, max: MaxSize) -> Result<DepthImage, DecodeError> {
+    let pixels: DepthPixels = match image.encoding.as_str() {
+        "16UC1" | "mono16" => sixteen_bit(image, "depth", max)?,
+        "32FC1" => {
+            let step = check_layout(image, 4, max)?;
+            let row_bytes = image.width as usize * 4;
+            let big = image.is_bigendian != 0;
+            let mut values = Vec::with_capacity(image.width as usize * image.height as usize);
+            for row in rows(image, step, row_bytes) {
+                values.extend(row.chunks_exact(4).map(|b| {
+                    let b = [b[0], b[1], b[2], b[3]];
+                    let m = if big {
+                        f32::from_be_bytes(b)
+                    } else {
+                        f32::from_le_bytes(b)
+                    };
+                    let mm = f64::from(m) / DEPTH_UNIT_M;
+                    if mm.is_finite() && mm > 0.0 && mm < f64::from(u16::MAX) {
+                        mm.round() as u16
+                    } else {
+                        0
+                    }
+                }));
+            }
+            ImageBuffer::from_raw(image.width, image.height, values).ok_or(
+                DecodeError::Encoding {
+                    stream: "depth",
+                    found: image.encoding.clone(),
+                    supported: "16UC1, mono16, 32FC1",
+                },
+            )?
+        }
+        other => {
+            return Err(DecodeError::Encoding {
+                stream: "depth",
+                found: other.to_owned(),
+                supported: "16UC1, mono16, 32FC1",
+            });
+        }
+    };
+    DepthImage::new(pixels, DEPTH_UNIT_M).map_err(DecodeError::Intrinsics)
+}
+
+/// An instance label image (16UC1 or mono16, 0 background).
+pub fn labels(image: &Image, max: MaxSize) -> Result<LabelImage, DecodeError> {
+    match image.encoding.as_str() {
+        "16UC1" | "mono16" => sixteen_bit(image, "labels", max),
+        other => Err(DecodeError::Encoding {
+            stream: "labels",
+            found: other.to_owned(),
+            supported: "16UC1, mono16",
+        }),
+    }
+}
+
+/// The pinhole intrinsics of a CameraInfo (K), refusing zero, negative and
+/// non-finite focal lengths; its image size, for checking against frames.
+pub fn intrinsics(info: &CameraInfo) -> Result<(Intrinsics, u32, u32), DecodeError> {
+    let k = &info.k;
+    let intrinsics = Intrinsics::new(k[0], k[4], k[2], k[5]).map_err(DecodeError::Intrinsics)?;
+    Ok((intrinsics, info.width, info.height))
+}
+
+/// The header stamp in nanoseconds since the Unix epoch.
+pub fn stamp_ns(stamp: crate::msg::Time) -> Result<u64, DecodeError> {
+    if stamp.nanosec >= 1_000_000_000 {
+        return Err(DecodeError::Stamp {
+            sec: stamp.sec,
+            nanosec: stamp.nanosec,
+        });
+    }
+    stamp.to_ns().ok_or(DecodeError::Stamp {
+        sec: stamp.sec,
+        nanosec: stamp.nanosec,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+    use super::*;
+
+    const MAX: MaxSize = MaxSize {
+        width: 4096,
+        height: 4096,
+    };
+
+    fn img(encoding: &str, width: u32, height: u32, step: u32, data: Vec<u8>) -> Image {
+        Image {
+            encoding: encoding.to_owned(),
+            width,
+            height,
+            step,
+            data,
+            ..Image::default()
+        }
+    }
+
+    #[test]
+    fn bgr8_becomes_rgb_and_padding_is_skipped() {
+        // Two pixels per row, a step of 8 (2 bytes of padding).
+        let data = vec![1, 2, 3, 4, 5, 6, 99, 99, 7, 8, 9, 10, 11, 12, 99, 99];
+        let c = colour(&img("bgr8", 2, 2, 8, data), MAX).unwrap();
+        assert_eq!(c.get_pixel(0, 0).0, [3, 2, 1]);
+        assert_eq!(c.get_pixel(1, 1).0, [12, 11, 10]);
+    }
+
+    #[test]
+    fn unsupported_encoding_is_named() {
+        let err = colour(&img("rgba8", 1, 1, 4, vec![0; 4]), MAX).unwrap_err();
+        assert_eq!(err.reason(), "encoding");
+        assert!(err.to_string().contains("rgba8"));
+        let err = depth(&img("8UC1", 1, 1, 1, vec![0]), MAX).unwrap_err();
+        assert_eq!(err.reason(), "encoding");
+    }
+
+    #[test]
+    fn size_and_step_mismatches_are_refused() {
+        let short_step = colour(&img("rgb8", 4, 1, 11, vec![0; 11]), MAX).unwrap_err();
+        assert!(matches!(short_step, DecodeError::Step { .. }));
+        let short_data = colour(&img("rgb8", 4, 2, 12, vec![0; 20]), MAX).unwrap_err();
+        assert!(matches!(short_data, DecodeError::DataSize { .. }));
+        let long_data = depth(&img("16UC1", 2, 2, 4, vec![0; 9]), MAX).unwrap_err();
+        assert!(matches!(long_data, DecodeError::DataSize { .. }));
+    }
+
+    #[test]
+    fn huge_images_are_refused_before_their_data_is_looked_at() {
+        let err = colour(&img("rgb8", 20000, 20000, 60000, vec![0; 3]), MAX).unwrap_err();
+        assert!(matches!(err, DecodeError::TooLarge { width: 20000, .. }));
+        // A step times height that overflows 32 bits must not wrap.
+        let err = depth(&img("16UC1", 4000, 4000, u32::MAX, vec![0; 3]), MAX).unwrap_err();
+        assert!(matches!(err, DecodeError::DataSize { .. }));
+    }
+
+    #[test]
+    fn depth_in_metres_becomes_millimetres_and_bad_readings_none() {
+        let values = [1.234f32, f32::NAN, -1.0, 70.0];
+        let data: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let d = depth(&img("32FC1", 4, 1, 16, data), MAX).unwrap();
+        assert_eq!(d.pixels().as_raw(), &vec![1234, 0, 0, 0]);
+        assert_eq!(d.metres_per_unit(), DEPTH_UNIT_M);
+    }
+
+    #[test]
+    fn sixteen_bit_reads_either_byte_order() {
+        let mut le = img("16UC1", 1, 1, 2, 1000u16.to_le_bytes().to_vec());
+        assert_eq!(depth(&le, MAX).unwrap().pixels().as_raw(), &vec![1000]);
+        le.is_bigendian = 1;
+        le.data = 1000u16.to_be_bytes().to_vec();
+        assert_eq!(depth(&le, MAX).unwrap().pixels().as_raw(), &vec![1000]);
+        let l = labels(&img("mono16", 1, 1, 2, 7u16.to_le_bytes().to_vec()), MAX).unwrap();
+        assert_eq!(l.as_raw(), &vec![7]);
+    }
+
+    #[test]
+    fn camera_info_with_zero_or_nan_focal_length_is_refused() {
+        let mut info = CameraInfo {
+            k: [525.0, 0.0, 319.5, 0.0, 525.0, 239.5, 0.0, 0.0, 1.0],
+            width: 640,
+            height: 480,
+            ..CameraInfo::default()
+        };
+        let (k, w, h) = intrinsics(&info).unwrap();
+        assert_eq!((k.fx(), k.cy(), w, h), (525.0, 239.5, 640, 480));
+        info.k[0] = 0.0;
+        assert_eq!(intrinsics(&info).unwrap_err().reason(), "intrinsics");
+        info.k[0] = f64::NAN;
+        assert_eq!(intrinsics(&info).unwrap_err().reason(), "intrinsics");
+    }
+
+    #[test]
+    fn stamps_before_the_epoch_or_with_too_many_nanoseconds_are_refused() {
+        use crate::msg::Time;
+        assert_eq!(
+            stamp_ns(Time { sec: 2, nanosec: 5 }).unwrap(),
+            2_000_000_005
+        );
+        assert!(
+            stamp_ns(Time {
+                sec: -1,
+                nanosec: 0
+            })
+            .is_err()
+        );
+        assert!(
+            stamp_ns(Time {
+                sec: 1,
+                nanosec: 1_000_000_000
+            })
+            .is_err()
+        );
+    }
+}
