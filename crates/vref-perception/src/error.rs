@@ -52,6 +52,8 @@ pub enum LoadError {
         height: u32,
         max_pixels: u64,
     },
+    #[error("{path}: the JPEG is cut off (no end-of-image marker): a partly written file?")]
+    Truncated { path: PathBuf },
     #[error("cannot decode {path}")]
     Decode {
         path: PathBuf,

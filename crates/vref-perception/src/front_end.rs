@@ -39,6 +39,9 @@ pub struct Skipped {
     /// Enough mask pixels, but fewer depth readings among them than the
     /// minimum.
     pub no_depth: u32,
+    /// Masks covering every pixel of the frame: a segmenter's background
+    /// or an inverted mask, not an object.
+    pub whole_frame: u32,
 }
 
 /// One depth reading of a mask.
@@ -63,6 +66,7 @@ enum Outcome {
     Detected,
     TooSmall,
     NoDepth,
+    WholeFrame,
 }
 
 impl FrontEnd {
@@ -94,6 +98,7 @@ impl FrontEnd {
                 Outcome::Detected => {}
                 Outcome::TooSmall => skipped.too_small += 1,
                 Outcome::NoDepth => skipped.no_depth += 1,
+                Outcome::WholeFrame => skipped.whole_frame += 1,
             }
         }
         Ok(skipped)
@@ -113,6 +118,9 @@ impl FrontEnd {
         };
         if area < self.settings.min_pixels {
             return Outcome::TooSmall;
+        }
+        if area == m.len() {
+            return Outcome::WholeFrame;
         }
         self.collect(frame, m, bbox);
         if self.samples.len() < self.settings.min_pixels {

@@ -27,7 +27,15 @@ fn decode(path: &Path) -> Result<DynamicImage, LoadError> {
         path: path.to_owned(),
         source,
     };
-    let (width, height) = open(path)?.into_dimensions().map_err(decode_error)?;
+    let reader = open(path)?;
+    if reader.format() == Some(image::ImageFormat::Jpeg) && !ends_a_jpeg(path)? {
+        // The decoder fills what a cut-off JPEG lacks with grey, without
+        // an error: a half-written frame would be measured as if whole.
+        return Err(LoadError::Truncated {
+            path: path.to_owned(),
+        });
+    }
+    let (width, height) = reader.into_dimensions().map_err(decode_error)?;
     if u64::from(width) * u64::from(height) > MAX_IMAGE_PIXELS {
         return Err(LoadError::TooLarge {
             path: path.to_owned(),
@@ -37,6 +45,24 @@ fn decode(path: &Path) -> Result<DynamicImage, LoadError> {
         });
     }
     open(path)?.decode().map_err(decode_error)
+}
+
+/// Whether a JPEG's end-of-image marker (FF D9) is among the file's last
+/// kilobyte (some writers pad after it; the coded data never holds it,
+/// since a coded FF is always followed by 00).
+fn ends_a_jpeg(path: &Path) -> Result<bool, LoadError> {
+    use std::io::{Read, Seek, SeekFrom};
+    let open_error = |source| LoadError::Open {
+        path: path.to_owned(),
+        source,
+    };
+    let mut file = std::fs::File::open(path).map_err(open_error)?;
+    let len = file.metadata().map_err(open_error)?.len();
+    file.seek(SeekFrom::Start(len.saturating_sub(1024)))
+        .map_err(open_error)?;
+    let mut tail = Vec::with_capacity(1024);
+    file.read_to_end(&mut tail).map_err(open_error)?;
+    Ok(tail.windows(2).any(|w| w == [0xFF, 0xD9]))
 }
 
 /// A colour image (8-bit RGB; 8-bit grey is expanded to RGB).

@@ -313,3 +313,23 @@ fn colour_survives_white_balance_but_tells_colours_apart() {
     let other = colour_block(two_tone, [1.0; 3]);
     assert!(cosine(&plain, &other) < 0.5, "{}", cosine(&plain, &other));
 }
+
+/// A mask covering every pixel (a segmenter's background, an inverted
+/// mask) is no object: skipped and counted, the other masks measured.
+#[test]
+fn a_mask_over_the_whole_frame_is_skipped_and_counted() {
+    let (colour, depth, mut masks) = draw(
+        &[Disc {
+            centre: (160.0, 120.0),
+            radius: 30.0,
+            depth: 0.8,
+            look: yellow,
+        }],
+        1.5,
+    );
+    masks.push(GrayImage::from_pixel(W, H, Luma([255])));
+    let (found, skipped) = run(&colour, &depth, &masks, settings(0.0));
+    assert_eq!(found.len(), 1);
+    assert_eq!(found[0].id, 10);
+    assert_eq!(skipped.whole_frame, 1);
+}

@@ -91,6 +91,7 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
         scenes_skipped = failures + left_out,
         masks_too_small = skipped.too_small,
         masks_without_depth = skipped.no_depth,
+        masks_over_the_whole_frame = skipped.whole_frame,
         views_without_support = no_support.len(),
         "imported {}",
         dataset.name()

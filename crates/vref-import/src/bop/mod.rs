@@ -445,6 +445,7 @@ impl BopImport {
         for view in self.scenes.iter().flat_map(|s| [&s.robot, &s.human]) {
             total.too_small += view.skipped.too_small;
             total.no_depth += view.skipped.no_depth;
+            total.whole_frame += view.skipped.whole_frame;
         }
         total
     }
