@@ -238,3 +238,88 @@ fn check_topic(name: &str, topic: &str) -> Result<(), String> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+    use super::*;
+
+    #[test]
+    fn defaults_pass_and_name_the_realsense_topics() {
+        let s = Ros2Settings::default();
+        s.check().unwrap();
+        assert_eq!(s.colour_topic, "/camera/camera/color/image_raw");
+        assert!(!s.headset_camera());
+    }
+
+    #[test]
+    fn bad_values_name_their_key() {
+        let cases: Vec<(&str, Ros2Settings)> = vec![
+            (
+                "colour_topic",
+                Ros2Settings {
+                    colour_topic: "camera/no_slash".to_owned(),
+                    ..Ros2Settings::default()
+                },
+            ),
+            (
+                "markers_topic",
+                Ros2Settings {
+                    markers_topic: "/vref/1bad".to_owned(),
+                    ..Ros2Settings::default()
+                },
+            ),
+            (
+                "stamp_tolerance_ms",
+                Ros2Settings {
+                    stamp_tolerance_ms: f64::NAN,
+                    ..Ros2Settings::default()
+                },
+            ),
+            (
+                "domain_id",
+                Ros2Settings {
+                    domain_id: 233,
+                    ..Ros2Settings::default()
+                },
+            ),
+            (
+                "robot_frame_id",
+                Ros2Settings {
+                    robot_frame_id: "x".repeat(33),
+                    ..Ros2Settings::default()
+                },
+            ),
+            (
+                "headset_colour_topic",
+                Ros2Settings {
+                    headset_colour_topic: "/headset/color".to_owned(),
+                    ..Ros2Settings::default()
+                },
+            ),
+            (
+                "pointing_cone_deg",
+                Ros2Settings {
+                    pointing_cone_deg: 90.0,
+                    ..Ros2Settings::default()
+                },
+            ),
+        ];
+        for (key, s) in cases {
+            let message = s.check().unwrap_err();
+            assert!(message.contains(key), "{message} should name {key}");
+        }
+    }
+
+    #[test]
+    fn the_headset_camera_needs_all_three_topics() {
+        let s = Ros2Settings {
+            headset_colour_topic: "/h/c".to_owned(),
+            headset_depth_topic: "/h/d".to_owned(),
+            headset_camera_info_topic: "/h/i".to_owned(),
+            ..Ros2Settings::default()
+        };
+        s.check().unwrap();
+        assert!(s.headset_camera());
+    }
+}
