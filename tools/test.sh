@@ -40,8 +40,10 @@ fi
 cargo build --workspace --locked --bins
 
 # The viewer's tests read their MCAP files with Python's mcap too.
+# A venv's python is a symlink: resolving it would run the base
+# interpreter, without the venv's packages.
 VREF_PYTHON="$(realpath "$venv/bin/python")" \
-  VREF_ROS2_PYTHON="$(realpath "$ros2_venv/bin/python")" cargo test --workspace --locked --no-fail-fast
+  VREF_ROS2_PYTHON="$(cd "$ros2_venv/bin" && pwd)/python" cargo test --workspace --locked --no-fail-fast
 
 # Every table of the README and docs/ is the one tools/tables.py makes from
 # docs/results/: a table edited by hand, or a result file changed without
