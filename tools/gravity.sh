@@ -21,19 +21,7 @@ mkdir -p "$up"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 config=$work/vref.toml
-python3 - "${1:-}" "$config" <<'PY'
-import re, sys
-settings, out = sys.argv[1].encode().decode("unicode_escape"), sys.argv[2]
-text = open("config/vref.toml").read()
-head, sep, rest = text.partition("[matching.rigid]")
-body, nxt, tail = rest.partition("\n[")
-for line in filter(None, (l.strip() for l in settings.splitlines())):
-    key = line.split("=")[0].strip()
-    body, n = re.subn(rf"(?m)^{re.escape(key)}\s*=.*$", line, body, count=1)
-    if n == 0:
-        sys.exit(f"gravity.sh: no {key} in [matching.rigid]")
-open(out, "w").write(head + sep + body + nxt + tail)
-PY
+python3 tools/rigid-settings.py "${1:-}" "$config"
 echo "settings: ${1:-defaults}"
 for preset in moi mrc; do
   for seed in $(seq 100 109); do
