@@ -193,3 +193,26 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
     }
     count
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn growth_reaches_across_the_seed_band_at_range_and_keeps_grow_steps_near() {
+        let rule = Rule {
+            jump_ratio: 0.02,
+            min_pixels: 200,
+            grow_steps: 8,
+            tolerance: 0.01,
+            grow_height: 0.003,
+            fy: 451.0,
+        };
+        // At 1 m the band (7 mm, 3 px) is narrower than grow_steps.
+        assert_eq!(rule.reach(1.0), 8);
+        // At 3 m: 451 (0.03 - 0.001) = 13.1 pixels.
+        assert_eq!(rule.reach(3.0), 14);
+        assert_eq!(rule.reach(0.0), 8);
+        assert_eq!(rule.reach(f32::NAN), 8);
+    }
+}
