@@ -66,6 +66,28 @@ pub(crate) struct Rule {
     pub jump_ratio: f32,
     pub min_pixels: u32,
     pub grow_steps: u8,
+    /// The seed height's noise term at 1 m (`tolerance z^2` at depth z),
+    /// the growth height, and the focal length in pixels: growth from a
+    /// pixel at depth z reaches as far as the band between the two
+    /// heights spans in the image, `fy (tolerance z - grow / z)`, when that
+    /// is more than `grow_steps`, so a far object's foot, cut by a seed
+    /// height that grows with z^2, is grown back as a near one's is.
+    pub tolerance: f32,
+    pub grow_height: f32,
+    pub fy: f32,
+}
+
+impl Rule {
+    /// Growth steps allowed from a pixel at depth `z`.
+    fn reach(&self, z: f32) -> u8 {
+        let band = self.fy * (self.tolerance * z - self.grow_height / z.max(1e-3));
+        let band = if band.is_finite() {
+            band.ceil().clamp(0.0, 255.0)
+        } else {
+            0.0
+        };
+        self.grow_steps.max(band as u8)
+    }
 }
 
 /// Labels segments 1..=count into `out` (0: none) and returns `count`;
@@ -133,7 +155,7 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
         let p = queue[head] as usize;
         head += 1;
         let step = steps[p];
-        if step >= rule.grow_steps {
+        if step >= rule.reach(z[p]) {
             continue;
         }
         let id = labels[p];
@@ -170,4 +192,27 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
         *o = *slot as u16;
     }
     count
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn growth_reaches_across_the_seed_band_at_range_and_keeps_grow_steps_near() {
+        let rule = Rule {
+            jump_ratio: 0.02,
+            min_pixels: 200,
+            grow_steps: 8,
+            tolerance: 0.01,
+            grow_height: 0.003,
+            fy: 451.0,
+        };
+        // At 1 m the band (7 mm, 3 px) is narrower than grow_steps.
+        assert_eq!(rule.reach(1.0), 8);
+        // At 3 m: 451 (0.03 - 0.001) = 13.1 pixels.
+        assert_eq!(rule.reach(3.0), 14);
+        assert_eq!(rule.reach(0.0), 8);
+        assert_eq!(rule.reach(f32::NAN), 8);
+    }
 }

@@ -40,6 +40,9 @@ pub type LabelImage = ImageBuffer<Luma<u16>, Vec<u16>>;
 /// Fewer sampled readings than this cannot show a plane.
 const MIN_PLANE_SAMPLES: usize = 50;
 
+/// Half width of the box whose mean height the seed test reads.
+const SEED_RADIUS: usize = 1;
+
 /// What the segmenter reads.
 #[derive(Debug, Clone, Copy)]
 pub struct RgbdFrame<'a> {
@@ -137,6 +140,11 @@ pub struct Segmenter {
     /// Depth in metres, 0 where there is no reading.
     z: Vec<f32>,
     smooth: Vec<f32>,
+    /// Height above the plane (0 where no reading), and its box mean over
+    /// the read pixels, which the seed test reads.
+    height: Vec<f32>,
+    height_mean: Vec<f32>,
+    read: Vec<bool>,
     normals: Vec<[f32; 3]>,
     /// Above the plane by the seed height; cleared where cut.
     seed: Vec<bool>,
@@ -158,6 +166,9 @@ impl Segmenter {
             settings,
             z: Vec::new(),
             smooth: Vec::new(),
+            height: Vec::new(),
+            height_mean: Vec::new(),
+            read: Vec::new(),
             normals: Vec::new(),
             seed: Vec::new(),
             grow: Vec::new(),
@@ -178,6 +189,9 @@ impl Segmenter {
     pub fn buffer_capacity(&self) -> usize {
         self.z.capacity() * 4
             + self.smooth.capacity() * 4
+            + self.height.capacity() * 4
+            + self.height_mean.capacity() * 4
+            + self.read.capacity()
             + self.normals.capacity() * 12
             + self.seed.capacity()
             + self.grow.capacity()
@@ -237,6 +251,9 @@ impl Segmenter {
         let n = w * h;
         self.z.resize(n, 0.0);
         self.smooth.resize(n, 0.0);
+        self.height.resize(n, 0.0);
+        self.height_mean.resize(n, 0.0);
+        self.read.resize(n, false);
         self.normals.resize(n, [0.0; 3]);
         self.seed.resize(n, false);
         self.grow.resize(n, false);
@@ -347,9 +364,35 @@ impl Segmenter {
                 let z = self.z[i];
                 let above = z * (n[0] * self.xu[u] + ky) + d;
                 let read = z > 0.0;
-                self.seed[i] = read && above > min_height.max(tolerance * z * z);
+                self.read[i] = read;
+                self.height[i] = if read { above } else { 0.0 };
                 self.grow[i] = read && above > grow_height;
             }
+        }
+        // A seed is a reading above `min_height` whose height averaged
+        // over the 3 x 3 readings around it is above the noise term: a
+        // reading's independent noise (`tolerance z^2` is four of its
+        // sigmas on the reference camera) shrinks by 3 in the mean, and so
+        // does the noise term. A far object's lower part then seeds as a
+        // near one's does.
+        let r = SEED_RADIUS;
+        normals::smooth(
+            &self.height,
+            &self.read,
+            w,
+            h,
+            r,
+            &mut self.boxes,
+            &mut self.height_mean,
+        );
+        let shrink = (2 * r + 1) as f32;
+        for ((seed, (&z, &mean)), (&read, &above)) in self
+            .seed
+            .iter_mut()
+            .zip(self.z.iter().zip(&self.height_mean))
+            .zip(self.read.iter().zip(&self.height))
+        {
+            *seed = read && above > min_height && mean > tolerance * z * z / shrink;
         }
         normals::smooth(
             &self.z,
@@ -402,6 +445,9 @@ impl Segmenter {
             jump_ratio,
             min_pixels: s.min_pixels,
             grow_steps: s.grow_steps.min(255) as u8,
+            tolerance,
+            grow_height,
+            fy: frame.intrinsics.fy() as f32,
         };
         components::label(layers, rule, &mut self.components, labels)
     }

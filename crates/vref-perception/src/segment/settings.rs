@@ -31,8 +31,9 @@ pub struct SegmentationSettings {
     /// With an up vector: the plane's normal must be within this many
     /// degrees of it.
     pub max_up_angle_deg: f64,
-    /// A reading this far above the plane (or `plane_tolerance_m` at its
-    /// depth, whichever is more) starts an object.
+    /// A reading this far above the plane starts an object, if its height
+    /// averaged over its 3 x 3 neighbourhood is above `plane_tolerance_m`
+    /// at its depth divided by 3 (the noise of a mean of nine readings).
     pub min_height_m: f64,
     /// Objects grow back down to readings this far above the plane.
     pub grow_height_m: f64,
@@ -62,7 +63,8 @@ pub struct SegmentationSettings {
     /// Segments with fewer pixels are dropped.
     pub min_pixels: u32,
     /// Cut pixels are given back to the neighbouring segment across at
-    /// most this many pixels.
+    /// most this many pixels (more at range: as many as the band between
+    /// the seed and growth heights spans in the image).
     pub grow_steps: u32,
 }
 
