@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import ctypes
 import os
-import sys
+import tomllib
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from types import TracebackType
@@ -49,11 +49,6 @@ class IpcSettings:
     def from_toml(path: str | os.PathLike[str]) -> IpcSettings:
         """The ``[ipc]`` section of a vref configuration file (the keys the
         Rust services read; missing keys keep their defaults)."""
-        if sys.version_info >= (3, 11):
-            import tomllib
-        else:  # pragma: no cover
-            raise RuntimeError("reading a vref.toml needs Python 3.11 or newer (tomllib)")
-
         with open(path, "rb") as f:
             ipc: dict[str, Any] = tomllib.load(f).get("ipc", {})
         known = {f.name for f in IpcSettings.__dataclass_fields__.values()}
