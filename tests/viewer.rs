@@ -412,18 +412,24 @@ fn a_recording_killed_with_sigkill_replays_its_finished_chunks() {
 
 /// Python's `mcap` package (a reader vref did not write), if installed:
 /// the `topics` and schema names, and as many messages as the Rust reader
-/// counts. Skipped, saying so, where it is not installed. `VREF_PYTHON`
-/// names the interpreter (tools/test.sh gives its virtual environment's,
-/// which has the package), else `python3`.
+/// counts. `VREF_PYTHON` names the interpreter (tools/test.sh gives its
+/// virtual environment's, which has the package: there a missing package
+/// fails the test); without it, `python3`, and the check is skipped,
+/// saying so, where that has no `mcap`.
 fn python_reads(path: &std::path::Path, topics: &[&str], schema: &str) {
     let script = support::repo_root().join("tools/check-mcap.py");
-    let python = std::env::var("VREF_PYTHON").unwrap_or_else(|_| "python3".to_owned());
+    let named = std::env::var("VREF_PYTHON").ok();
+    let python = named.clone().unwrap_or_else(|| "python3".to_owned());
     let probe = Command::new(&python)
         .args(["-c", "import mcap"])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .status();
     if !probe.is_ok_and(|s| s.success()) {
+        assert!(
+            named.is_none(),
+            "VREF_PYTHON={python} cannot import mcap (tools/test.sh installs it in its venv)"
+        );
         eprintln!("{python} with the mcap package not found: Python check skipped");
         return;
     }

@@ -5,7 +5,7 @@
 #
 #   bash tools/test.sh
 #
-# Needs python3 (3.10 or newer) with the venv module, and PyPI for the
+# Needs python3 (3.11 or newer) with the venv module, and PyPI for the
 # first run (iceoryx2 0.10.0, numpy, pytest, mypy, and mcap with
 # mcap-protobuf-support for tools/check-mcap.py, which tests/viewer.rs
 # runs on the files it records; the ROS 2 wheels below). Set VREF_VENV to
@@ -42,7 +42,7 @@ cargo build --workspace --locked --bins
 # The viewer's tests read their MCAP files with Python's mcap too.
 # A venv's python is a symlink: resolving it would run the base
 # interpreter, without the venv's packages.
-VREF_PYTHON="$(realpath "$venv/bin/python")" \
+VREF_PYTHON="$(cd "$venv/bin" && pwd)/python" \
   VREF_ROS2_PYTHON="$(cd "$ros2_venv/bin" && pwd)/python" cargo test --workspace --locked --no-fail-fast
 
 # Every table of the README and docs/ is the one tools/tables.py makes from
