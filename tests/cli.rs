@@ -308,6 +308,39 @@ fn config_check_refuses_a_bad_tier_naming_it_and_so_does_the_matcher() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("tier"));
 }
 
+/// Issue 41: a misspelt `VREF_SIMD` once meant "every path the CPU has";
+/// the CLI and the matcher now refuse it at start (2), naming it.
+#[test]
+fn an_unknown_simd_cap_is_refused_naming_it() {
+    let vref = std::path::Path::new(env!("CARGO_BIN_EXE_vref"));
+    let config = repo_root().join("config/vref.toml");
+    let config = config.to_str().unwrap();
+    let run = support::vref_with(
+        vref,
+        &["config", "check", config],
+        &[("VREF_SIMD", "avx-512")],
+        LIMIT,
+    );
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    assert!(
+        run.stderr.contains("VREF_SIMD=\"avx-512\""),
+        "{}",
+        run.stderr
+    );
+    let ok = support::vref_with(
+        vref,
+        &["config", "check", config],
+        &[("VREF_SIMD", "avx512")],
+        LIMIT,
+    );
+    assert_eq!(ok.code, Some(0), "{}", ok.stderr);
+    // The limit is a hang guard: the matcher refuses before it starts.
+    let matcher = vref.with_file_name("vref-matcher");
+    let run = support::vref_with(&matcher, &[], &[("VREF_SIMD", "sse")], LIMIT);
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("VREF_SIMD"), "{}", run.stderr);
+}
+
 /// Issue 40, case 7: `vref config check` accepted these, and the matcher
 /// then exited 1 (for the root path saying only `ResourceCreationFailed`),
 /// or, with a relative root path, ran with iceoryx2's files in its working

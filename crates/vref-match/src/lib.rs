@@ -40,6 +40,7 @@ mod tier;
 pub use appearance::appearance_affinity;
 pub use calibration::{Calibration, ECE_BINS, expected_calibration_error, logit};
 pub use candidates::candidate_pairs;
+pub use cpu::{UnknownSimd, check_simd_setting};
 pub use distances::distance_matrix;
 pub use error::MatchError;
 pub use evaluation::{Evaluation, MethodReport, RowAnswer};

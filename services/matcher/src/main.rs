@@ -28,6 +28,10 @@ struct Args {
 fn main() -> ExitCode {
     let args = Args::parse();
     vref_logging::init("info");
+    if let Err(e) = vref_match::check_simd_setting() {
+        tracing::error!("{e}");
+        return ExitCode::from(2);
+    }
     let config = match vref_config::Config::load(args.config.as_deref()) {
         Ok((config, source)) => {
             tracing::info!(?source, "configuration");

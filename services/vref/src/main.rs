@@ -46,6 +46,10 @@ fn main() -> ExitCode {
     // reaches vref, which then says the same once: its own warnings only
     // with RUST_LOG.
     vref_logging::init("warn,zenoh=error");
+    if let Err(e) = vref_match::check_simd_setting() {
+        eprintln!("vref: {e}");
+        return ExitCode::from(2);
+    }
     let result = match cli.command {
         Command::Eval(args) => eval::run(&args),
         Command::Import(ImportCommand::CmuHouse(args)) => import::cmu_house(&args),

@@ -236,6 +236,16 @@ impl Rays {
             }
             return;
         }
+        #[cfg(target_arch = "x86_64")]
+        if crate::cpu::avx2_fma() {
+            #[allow(unsafe_code)]
+            // SAFETY: the CPU has AVX2 (checked just above), the only
+            // requirement of a `target_feature` function.
+            unsafe {
+                half_lengths_avx2(&row, out);
+            }
+            return;
+        }
         half_lengths_of(&row, out);
     }
 
@@ -260,13 +270,15 @@ impl Rays {
             gate: self.gate,
             loosest,
         };
+        // Written in AVX2 by hand (the compiler left the masks scalar);
+        // AVX-512 CPUs run it too.
         #[cfg(target_arch = "x86_64")]
-        if crate::cpu::avx512() {
+        if crate::cpu::avx2_fma() {
             #[allow(unsafe_code)]
-            // SAFETY: the CPU has AVX-512F (checked just above), the only
+            // SAFETY: the CPU has AVX2 (checked just above), the only
             // requirement of a `target_feature` function.
             unsafe {
-                bounded_row_avx512(row, log_g, bound, scratch);
+                bounded_row_avx2(row, log_g, bound, scratch);
             }
             return;
         }
@@ -341,6 +353,15 @@ fn half_lengths_avx512(row: &RowInputs<'_>, out: &mut [f64]) {
     half_lengths_of(row, out);
 }
 
+/// [`half_lengths_of`] in 256-bit vectors, four robot objects at once
+/// (AVX2 alone: Rust never fuses a multiply and an add unasked, so the
+/// bits are the baseline's).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn half_lengths_avx2(row: &RowInputs<'_>, out: &mut [f64]) {
+    half_lengths_of(row, out);
+}
+
 /// Pairs per mask of [`Rays::bounded_row`].
 const MASK_LANES: usize = 8;
 
@@ -352,6 +373,21 @@ struct Bound {
     loosest: f64,
 }
 
+/// Whether a pair of half squared length `q` and appearance `g` may cost
+/// less than the bound's `loosest`: below the gate, `q tail / (tail + q) -
+/// g < loosest` multiplied out (`tail + q > 0`), without a division; both
+/// sides computed and selected without a branch, as the vector code does.
+#[inline(always)]
+fn may_take(q: f64, g: f64, bound: Bound) -> bool {
+    let Bound {
+        tail,
+        gate,
+        loosest,
+    } = bound;
+    let beyond = q >= gate;
+    (beyond & (q - g < loosest)) | (!beyond & (q * tail < (loosest + g) * (tail + q)))
+}
+
 /// [`Rays::bounded_row`] itself, in whatever vectors the caller's target
 /// features let the compiler use.
 #[inline(always)]
@@ -361,36 +397,120 @@ fn bounded_row_of(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mu
     lengths.resize(m, 0.0);
     masks.resize(m.div_ceil(MASK_LANES), 0);
     half_lengths_of(row, lengths);
-    let Bound {
-        tail,
-        gate,
-        loosest,
-    } = bound;
+    let may = |q: f64, g: f64| may_take(q, g, bound);
+    let whole = m / MASK_LANES;
+    let (q_whole, q_rest) = lengths.split_at(whole * MASK_LANES);
+    let (g_whole, g_rest) = log_g.split_at(whole * MASK_LANES);
     for ((mask, q), g) in masks
         .iter_mut()
-        .zip(lengths.chunks(MASK_LANES))
-        .zip(log_g.chunks(MASK_LANES))
+        .zip(q_whole.chunks_exact(MASK_LANES))
+        .zip(g_whole.chunks_exact(MASK_LANES))
     {
         let mut bits = 0u8;
-        for (l, (&q, &g)) in q.iter().zip(g).enumerate() {
-            // Below the gate, `q tail / (tail + q) - g < loosest` multiplied
-            // out (`tail + q > 0`), without a division.
-            let may = if q >= gate {
-                q - g < loosest
-            } else {
-                q * tail < (loosest + g) * (tail + q)
-            };
-            bits |= u8::from(may) << l;
+        for l in 0..MASK_LANES {
+            bits |= u8::from(may(q[l], g[l])) << l;
         }
         *mask = bits;
     }
+    if let Some(last) = masks.get_mut(whole) {
+        let mut bits = 0u8;
+        for (l, (&q, &g)) in q_rest.iter().zip(g_rest).enumerate() {
+            bits |= u8::from(may(q, g)) << l;
+        }
+        *last = bits;
+    }
 }
 
-/// [`bounded_row_of`] in 512-bit vectors.
+/// [`bounded_row_of`] in 256-bit vectors, each mask from two of them:
+/// the same IEEE operations in the same order as [`half_mahalanobis2`]
+/// and the scalar bound (no fused multiply-add), so the same bits; the
+/// last `m % 8` pairs by the scalar code itself.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn bounded_row_avx512(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
-    bounded_row_of(row, log_g, bound, scratch);
+#[target_feature(enable = "avx2")]
+fn bounded_row_avx2(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
+    use std::arch::x86_64::{
+        __m256d, _CMP_GE_OQ, _CMP_LT_OQ, _mm256_add_pd, _mm256_and_pd, _mm256_andnot_pd,
+        _mm256_cmp_pd, _mm256_div_pd, _mm256_loadu_pd, _mm256_movemask_pd, _mm256_mul_pd,
+        _mm256_or_pd, _mm256_set1_pd, _mm256_storeu_pd, _mm256_sub_pd,
+    };
+    let m = log_g.len();
+    let RowScratch { lengths, masks, .. } = scratch;
+    lengths.resize(m, 0.0);
+    masks.resize(m.div_ceil(MASK_LANES), 0);
+    let (xs, ys, zs) = (&row.xyz[0][..m], &row.xyz[1][..m], &row.xyz[2][..m]);
+    let (ux, uy, uz) = (&row.u[0][..m], &row.u[1][..m], &row.u[2][..m]);
+    let var = &row.var[..m];
+    let splat = |x: f64| _mm256_set1_pd(x);
+    let [mx, my, mz] = row.moved.map(splat);
+    let [w0, w1, w2] = row.w.map(splat);
+    let (alpha, inv, one, half) = (splat(row.alpha), splat(row.inv), splat(1.0), splat(0.5));
+    let (tail, gate, loosest) = (splat(bound.tail), splat(bound.gate), splat(bound.loosest));
+    let load = |s: &[f64], k: usize| -> __m256d {
+        let lanes = &s[k..k + 4];
+        #[allow(unsafe_code)]
+        // SAFETY: `lanes` is four f64 (a slice of that length); loadu takes
+        // any alignment.
+        unsafe {
+            _mm256_loadu_pd(lanes.as_ptr())
+        }
+    };
+    let add = |a: __m256d, b: __m256d| _mm256_add_pd(a, b);
+    let sub = |a: __m256d, b: __m256d| _mm256_sub_pd(a, b);
+    let mul = |a: __m256d, b: __m256d| _mm256_mul_pd(a, b);
+    let dot = |a: [__m256d; 3], b: [__m256d; 3]| {
+        add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]))
+    };
+    let whole = m / MASK_LANES;
+    for (chunk, mask) in masks.iter_mut().enumerate().take(whole) {
+        let mut bits = 0u8;
+        for half_chunk in 0..2 {
+            let k = chunk * MASK_LANES + 4 * half_chunk;
+            let r = [
+                sub(mx, load(xs, k)),
+                sub(my, load(ys, k)),
+                sub(mz, load(zs, k)),
+            ];
+            let w = [w0, w1, w2];
+            let u = [load(ux, k), load(uy, k), load(uz, k)];
+            let (rr, wr, ur, wu) = (dot(r, r), dot(w, r), dot(u, r), dot(w, u));
+            let a = mul(sub(rr, mul(mul(alpha, wr), wr)), inv);
+            let b = mul(sub(ur, mul(mul(alpha, wu), wr)), inv);
+            let uu = mul(sub(one, mul(mul(alpha, wu), wu)), inv);
+            let c = load(var, k);
+            let q = mul(
+                half,
+                sub(a, _mm256_div_pd(mul(mul(c, b), b), add(one, mul(c, uu)))),
+            );
+            let out = &mut lengths[k..k + 4];
+            #[allow(unsafe_code)]
+            // SAFETY: `out` is four f64 (a slice of that length); storeu
+            // takes any alignment.
+            unsafe {
+                _mm256_storeu_pd(out.as_mut_ptr(), q);
+            }
+            let g = load(log_g, k);
+            let beyond = _mm256_cmp_pd::<_CMP_GE_OQ>(q, gate);
+            let near = _mm256_cmp_pd::<_CMP_LT_OQ>(sub(q, g), loosest);
+            let far = _mm256_cmp_pd::<_CMP_LT_OQ>(mul(q, tail), mul(add(loosest, g), add(tail, q)));
+            let may = _mm256_or_pd(_mm256_and_pd(beyond, near), _mm256_andnot_pd(beyond, far));
+            bits |= (_mm256_movemask_pd(may) as u8) << (4 * half_chunk);
+        }
+        *mask = bits;
+    }
+    if let Some(last) = masks.get_mut(whole) {
+        let mut bits = 0u8;
+        for (l, k) in (whole * MASK_LANES..m).enumerate() {
+            let r = [
+                row.moved[0] - xs[k],
+                row.moved[1] - ys[k],
+                row.moved[2] - zs[k],
+            ];
+            let q = half_mahalanobis2(r, row.w, row.alpha, [ux[k], uy[k], uz[k]], var[k], row.inv);
+            lengths[k] = q;
+            bits |= u8::from(may_take(q, log_g[k], bound)) << l;
+        }
+        *last = bits;
+    }
 }
 
 /// Half of `r^T C^-1 r` for `C = I / inv + h w w^T + c u u^T` (`alpha`
@@ -821,8 +941,20 @@ mod tests {
                 super::bounded_row_of(&row, log_g, bound, &mut scalar);
                 let mut dispatched = RowScratch::default();
                 rays.bounded_row(&row, log_g, rp.unmatched_cost, &mut dispatched);
-                assert_eq!(scalar.lengths, dispatched.lengths, "case {case} row {i}");
                 assert_eq!(scalar.masks, dispatched.masks, "case {case} row {i}");
+                for (path, vector) in vector_paths(&row, log_g, bound) {
+                    assert_eq!(
+                        scalar.lengths, vector.lengths,
+                        "{path}: case {case} row {i}"
+                    );
+                    assert_eq!(scalar.masks, vector.masks, "{path}: case {case} row {i}");
+                    let mut lengths = vec![0.0; m];
+                    match path {
+                        "avx2" => unsafe_half_lengths_avx2(&row, &mut lengths),
+                        _ => unsafe_half_lengths_avx512(&row, &mut lengths),
+                    }
+                    assert_eq!(scalar.lengths, lengths, "{path}: case {case} row {i}");
+                }
                 marked += scalar.masks.iter().map(|b| b.count_ones()).sum::<u32>();
                 for (j, &q) in scalar.lengths.iter().enumerate() {
                     let r = moved - problem.robot_positions[j];
@@ -832,5 +964,61 @@ mod tests {
             }
         }
         assert!(marked > 20, "too few pairs marked: {marked}");
+    }
+
+    /// Each vector path this CPU has, run on `row`; a path it lacks is
+    /// reported as skipped (the test then checks fewer paths, never the
+    /// baseline against itself).
+    fn vector_paths(
+        row: &super::RowInputs<'_>,
+        log_g: &[f64],
+        bound: super::Bound,
+    ) -> Vec<(&'static str, RowScratch)> {
+        let mut out = Vec::new();
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                let mut s = RowScratch::default();
+                #[allow(unsafe_code)]
+                // SAFETY: the CPU has AVX2 (checked just above).
+                unsafe {
+                    super::bounded_row_avx2(row, log_g, bound, &mut s);
+                }
+                out.push(("avx2", s));
+            } else {
+                eprintln!("skipped: this CPU has no AVX2");
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // The lengths' AVX-512 path (the matrix's); the masks have
+                // the AVX2 path alone.
+                let mut s = RowScratch::default();
+                super::bounded_row_of(row, log_g, bound, &mut s);
+                out.push(("avx512", s));
+            } else {
+                eprintln!("skipped: this CPU has no AVX-512F");
+            }
+        }
+        out
+    }
+
+    /// The AVX2 path of the row's lengths alone (the CPU has AVX2: only
+    /// called for a path [`vector_paths`] ran).
+    #[cfg(target_arch = "x86_64")]
+    fn unsafe_half_lengths_avx2(row: &super::RowInputs<'_>, out: &mut [f64]) {
+        #[allow(unsafe_code)]
+        // SAFETY: called only where `vector_paths` found AVX2.
+        unsafe {
+            super::half_lengths_avx2(row, out);
+        }
+    }
+
+    /// The AVX-512 path of the row's lengths alone.
+    #[cfg(target_arch = "x86_64")]
+    fn unsafe_half_lengths_avx512(row: &super::RowInputs<'_>, out: &mut [f64]) {
+        #[allow(unsafe_code)]
+        // SAFETY: called only where `vector_paths` found AVX-512F.
+        unsafe {
+            super::half_lengths_avx512(row, out);
+        }
     }
 }
