@@ -274,7 +274,13 @@ fn the_demo_answers_every_query_and_reports_its_accuracy() {
         (accuracy - correct as f64 / queries as f64).abs() < 1e-9,
         "{summary}"
     );
-    assert!(summary["rtt_p99_us"].as_u64().unwrap() >= summary["rtt_p50_us"].as_u64().unwrap());
+    // The demo's world is the synthetic feeds' 8 objects: 2 of 200
+    // answers were wrong over ten such runs when this was written (a ray
+    // that took a neighbour, a `no_match` for an object with a partner).
+    // At that rate 4 or more wrong of 20 (accuracy below 0.85) has a
+    // chance of about 4e-5; a demo answering wrong fails here instead of
+    // printing a low accuracy.
+    assert!(accuracy >= 0.85, "{summary}");
 }
 
 /// Issue 40, case 1: both feeds replaced by a source whose features are
