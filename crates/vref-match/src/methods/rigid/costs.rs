@@ -270,8 +270,17 @@ impl Rays {
             gate: self.gate,
             loosest,
         };
-        // Written in AVX2 by hand (the compiler left the masks scalar);
-        // AVX-512 CPUs run it too.
+        // Written by hand (the compiler left the masks scalar).
+        #[cfg(target_arch = "x86_64")]
+        if crate::cpu::avx512() {
+            #[allow(unsafe_code)]
+            // SAFETY: the CPU has AVX-512F (checked just above), the only
+            // requirement of a `target_feature` function.
+            unsafe {
+                bounded_row_avx512(row, log_g, bound, scratch);
+            }
+            return;
+        }
         #[cfg(target_arch = "x86_64")]
         if crate::cpu::avx2_fma() {
             #[allow(unsafe_code)]
@@ -496,6 +505,90 @@ fn bounded_row_avx2(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &
             bits |= (_mm256_movemask_pd(may) as u8) << (4 * half_chunk);
         }
         *mask = bits;
+    }
+    if let Some(last) = masks.get_mut(whole) {
+        let mut bits = 0u8;
+        for (l, k) in (whole * MASK_LANES..m).enumerate() {
+            let r = [
+                row.moved[0] - xs[k],
+                row.moved[1] - ys[k],
+                row.moved[2] - zs[k],
+            ];
+            let q = half_mahalanobis2(r, row.w, row.alpha, [ux[k], uy[k], uz[k]], var[k], row.inv);
+            lengths[k] = q;
+            bits |= u8::from(may_take(q, log_g[k], bound)) << l;
+        }
+        *last = bits;
+    }
+}
+
+/// [`bounded_row_avx2`] in 512-bit vectors: a mask is one vector's
+/// compare, the same operations in the same order.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn bounded_row_avx512(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
+    use std::arch::x86_64::{
+        __m512d, _CMP_GE_OQ, _CMP_LT_OQ, _mm512_add_pd, _mm512_cmp_pd_mask, _mm512_div_pd,
+        _mm512_loadu_pd, _mm512_mul_pd, _mm512_set1_pd, _mm512_storeu_pd, _mm512_sub_pd,
+    };
+    let m = log_g.len();
+    let RowScratch { lengths, masks, .. } = scratch;
+    lengths.resize(m, 0.0);
+    masks.resize(m.div_ceil(MASK_LANES), 0);
+    let (xs, ys, zs) = (&row.xyz[0][..m], &row.xyz[1][..m], &row.xyz[2][..m]);
+    let (ux, uy, uz) = (&row.u[0][..m], &row.u[1][..m], &row.u[2][..m]);
+    let var = &row.var[..m];
+    let splat = |x: f64| _mm512_set1_pd(x);
+    let [mx, my, mz] = row.moved.map(splat);
+    let w = row.w.map(splat);
+    let (alpha, inv, one, half) = (splat(row.alpha), splat(row.inv), splat(1.0), splat(0.5));
+    let (tail, gate, loosest) = (splat(bound.tail), splat(bound.gate), splat(bound.loosest));
+    let load = |s: &[f64], k: usize| -> __m512d {
+        let lanes = &s[k..k + MASK_LANES];
+        #[allow(unsafe_code)]
+        // SAFETY: `lanes` is eight f64 (a slice of that length); loadu
+        // takes any alignment.
+        unsafe {
+            _mm512_loadu_pd(lanes.as_ptr())
+        }
+    };
+    let add = |a: __m512d, b: __m512d| _mm512_add_pd(a, b);
+    let sub = |a: __m512d, b: __m512d| _mm512_sub_pd(a, b);
+    let mul = |a: __m512d, b: __m512d| _mm512_mul_pd(a, b);
+    let dot = |a: [__m512d; 3], b: [__m512d; 3]| {
+        add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]))
+    };
+    let whole = m / MASK_LANES;
+    for (chunk, mask) in masks.iter_mut().enumerate().take(whole) {
+        let k = chunk * MASK_LANES;
+        let r = [
+            sub(mx, load(xs, k)),
+            sub(my, load(ys, k)),
+            sub(mz, load(zs, k)),
+        ];
+        let u = [load(ux, k), load(uy, k), load(uz, k)];
+        let (rr, wr, ur, wu) = (dot(r, r), dot(w, r), dot(u, r), dot(w, u));
+        let a = mul(sub(rr, mul(mul(alpha, wr), wr)), inv);
+        let b = mul(sub(ur, mul(mul(alpha, wu), wr)), inv);
+        let uu = mul(sub(one, mul(mul(alpha, wu), wu)), inv);
+        let c = load(var, k);
+        let q = mul(
+            half,
+            sub(a, _mm512_div_pd(mul(mul(c, b), b), add(one, mul(c, uu)))),
+        );
+        let out = &mut lengths[k..k + MASK_LANES];
+        #[allow(unsafe_code)]
+        // SAFETY: `out` is eight f64 (a slice of that length); storeu
+        // takes any alignment.
+        unsafe {
+            _mm512_storeu_pd(out.as_mut_ptr(), q);
+        }
+        let g = load(log_g, k);
+        let beyond = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(q, gate);
+        let near = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(sub(q, g), loosest);
+        let far =
+            _mm512_cmp_pd_mask::<_CMP_LT_OQ>(mul(q, tail), mul(add(loosest, g), add(tail, q)));
+        *mask = (beyond & near) | (!beyond & far);
     }
     if let Some(last) = masks.get_mut(whole) {
         let mut bits = 0u8;
@@ -989,10 +1082,12 @@ mod tests {
                 eprintln!("skipped: this CPU has no AVX2");
             }
             if std::arch::is_x86_feature_detected!("avx512f") {
-                // The lengths' AVX-512 path (the matrix's); the masks have
-                // the AVX2 path alone.
                 let mut s = RowScratch::default();
-                super::bounded_row_of(row, log_g, bound, &mut s);
+                #[allow(unsafe_code)]
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe {
+                    super::bounded_row_avx512(row, log_g, bound, &mut s);
+                }
                 out.push(("avx512", s));
             } else {
                 eprintln!("skipped: this CPU has no AVX-512F");
