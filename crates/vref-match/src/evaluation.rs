@@ -34,6 +34,11 @@ pub struct RowAnswer {
     /// The pair's squared residual in units of the stated errors, where
     /// tested ([`crate::pair_residuals`]).
     pub residual: Option<f64>,
+    /// The human object's id, and the robot object's id the method gave
+    /// it as partner (if any): where a reader checks answers against a
+    /// truth of its own (e.g. positions under known camera poses).
+    pub human_object: u64,
+    pub partner: Option<u64>,
     /// Whether it is right ("no partner" for an object without one counts).
     pub correct: bool,
     /// Whether the method gave the object a partner.
@@ -137,6 +142,8 @@ impl Evaluation {
                     confidence,
                     status: solution.verdict(row, confidence, &self.ok_rule),
                     residual: solution.residuals.get(row).copied().flatten(),
+                    human_object: human_ids[row],
+                    partner: guess,
                     correct: guess == truth.get(&human_ids[row]).copied(),
                     matched: a.is_some(),
                     human_objects: pair.human.len(),
