@@ -256,21 +256,22 @@ fn query_loop(
 ) -> Result<Summary, RunError> {
     let mut client =
         ReferenceClient::connect(&config.ipc, &format!("vref-demo-{}", std::process::id()))?;
-    // Ready once a pointing ray is answered `ok`: the first answers after
-    // start can come from a solve of the feeds' first snapshots that left
-    // the object without a partner (`no_match` to the first query in 1 of
+    // Ready once a pointing ray is answered with a partner (`ok` or
+    // `ambiguous`; a dense scene may never be `ok`): the first answers
+    // after start can come from a solve of the feeds' first snapshots that
+    // left the object without one (`no_match` to the first query in 1 of
     // 6 runs of `vref demo --duration 4s --objects 8`, right from then
     // on), and the demo measures the services, not their start.
     wait_ready(READY_WITHIN, Duration::from_millis(100), || {
         services.ensure_running()?;
         let answered = world.pointing(now_s()).is_some_and(|g| {
             ask_pointing(&mut client, &g, QUERY_TIMEOUT)
-                .is_ok_and(|a| a.status() == AnswerStatus::Ok)
+                .is_ok_and(|a| matches!(a.status(), AnswerStatus::Ok | AnswerStatus::Ambiguous))
         });
         Ok::<_, ReadyError>(if answered {
             Readiness::Ready(())
         } else {
-            Readiness::Waiting("`ok` answer to a pointing ray".to_owned())
+            Readiness::Waiting("answer naming a partner for a pointing ray".to_owned())
         })
     })?;
     let period = Duration::from_secs_f64(1.0 / options.query_rate);
