@@ -51,7 +51,7 @@ const EVENT_RULES: [&str; 4] = [
 /// How a sender fills the fields whose values are rules rather than data,
 /// and what a reader takes from an answer: what a client written from this
 /// file alone needs beyond the layout to be answered (issue 40).
-const FIELD_RULES: [&str; 9] = [
+const FIELD_RULES: [&str; 10] = [
     "every `schema_version` field holds the schema record's `schema_version`; `reserved` fields hold 0",
     "`timestamp_ns` is the capture time in nanoseconds since the Unix epoch (the sender's clock, which must agree with the matcher's): the matcher refuses a message older than its [matcher] max_capture_age_ms (default 10 s) or ahead of its clock by more than max_clock_skew_ms (default 100 ms), and an answer resting on a snapshot older than stale_after_ms (default 500 ms) is `stale`, so a sender keeps publishing",
     "`session` is a number the sender picks anew each time it starts; `sequence` counts its messages on a service from 1 and must grow within a session",
@@ -60,7 +60,8 @@ const FIELD_RULES: [&str; 9] = [
     "PointingRay: `origin` and `direction` in the human view's camera frame (direction non-zero), `cone_half_angle` in radians in (0, pi/2], `confidence` in [0, 1]",
     "ReferenceQuery: `request_id` is the client's own number, echoed by the answer; `kind` is a QueryKind: human_object asks for the robot object that the human snapshot's object `human_object_id` is, ray for the object the ray (`ray_origin`, `ray_direction`, `cone_half_angle`, human camera frame) points at, latest_gesture for the one the latest PointingRay points at; fields a kind does not use hold 0",
     "ReferenceAnswer: `status` is an AnswerStatus; with ok (an answer to act on) or ambiguous, `robot_track_id` names the robot snapshot's object and `position` is its position in the robot camera frame; `alternative_count` of `alternatives` are the next candidates",
-    "answers come only once both a robot and a human snapshot were accepted and solved: until then, and for a query whose object is not in the human snapshot, the status says why (not_ready, no_match)",
+    "answers come only once both a robot and a human snapshot were accepted and solved: until then, and for a query whose object is not in the human snapshot, the status says why (not_ready, bad_request)",
+    "a client is answered at most [matcher] max_queries_per_client_hz times a second (default 2000, in bursts of a tenth of a second's worth): queries beyond it are dropped unanswered (and counted)",
 ];
 
 /// The matcher's reject reasons: the index of `MatcherStats.rejected`,
