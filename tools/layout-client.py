@@ -19,10 +19,12 @@ latest_gesture, the `QueryKind` codes), notifying the event services as
 the schema's `event_rules` say, and reads the answers.
 
 The iceoryx2 root path is the deployment's, not the wire's: --root-path
-(default iceoryx2's own). Prints one JSON line:
-{"sent": N, "answers": M, "ok": K, "correct": C, "statuses": {...}}
-where `ok` counts answers whose status is `ok` and `correct` those of them
-naming the object the table says. Exit code 0 when it ran (whatever the
+(default iceoryx2's own). Queries go --query-interval apart (default 2 ms,
+well within the rate per client the field rules state). Prints one JSON
+line: {"sent": N, "answers": M, "ok": K, "correct": C, "statuses": {...},
+"wrong": [...]} where `ok` counts answers whose status is `ok`, `correct`
+those of them naming the object the table says, and `wrong` lists the
+others. Exit code 0 when it ran (whatever the
 answers), 1 when something could not be opened or sent.
 """
 
@@ -235,6 +237,8 @@ class Client:
         self.notifiers: dict[str, Any] = {}
         self.session = random.getrandbits(63) | 1
         self.sequences: dict[str, int] = {}
+        #: Events to notify later (--defer-notify), else None.
+        self.deferred: list[str] | None = None
 
     def port(self, p: Any) -> Any:
         self.ports.append(p)
@@ -287,9 +291,20 @@ class Client:
         return self.sequences[role]
 
     def sent(self, record: dict[str, Any]) -> None:
-        """Event rule: after each sample, notify the service `event` names."""
+        """Event rule: after each sample, notify the service `event` names
+        (at once, or with --defer-notify when the next request is sent)."""
         if record.get("event"):
-            self.notifier(record["event"]).notify()
+            if self.deferred is None:
+                self.notifier(record["event"]).notify()
+            else:
+                self.deferred.append(record["event"])
+
+    def flush(self) -> None:
+        """The deferred notifications, in the order their samples went."""
+        for name in self.deferred or []:
+            self.notifier(name).notify()
+        if self.deferred is not None:
+            self.deferred = []
 
 
 def fill_common(message: Any, layout: Layout) -> None:
@@ -326,6 +341,7 @@ class Run:
         self.answered = 0
         self.ok = 0
         self.correct = 0
+        self.wrong: list[dict[str, Any]] = []
 
     def publish_snapshot(self, side: str) -> None:
         publisher, record = self.snapshots[side]
@@ -387,6 +403,7 @@ class Run:
             query.cone_half_angle = 0.05
         pending = self.requester.send_copy(query)
         try:
+            self.client.flush()
             # Event rule: notify `request_event` after each request, and
             # listen on `response_event` for the answer.
             self.client.notifier(self.reference_record["request_event"]).notify()
@@ -424,14 +441,19 @@ class Run:
             time.sleep(0.05)
         raise TimeoutError(f"the matcher gave no answer but not_ready within {timeout_s} s")
 
-    def round(self, timeout_s: float) -> None:
-        self.publish_snapshot("robot")
-        self.publish_snapshot("human")
+    def round(self, timeout_s: float, interval_s: float, kinds: list[str]) -> None:
         for h in sorted(HUMAN_TABLE):
+            # Fresh snapshots for every object's queries: an answer resting
+            # on an old one is `stale` (field rules, timestamp_ns).
+            self.publish_snapshot("robot")
+            self.publish_snapshot("human")
             # The ray first: two round trips later, when latest_gesture is
             # asked, the matcher has surely taken it.
             self.publish_ray(h)
-            for kind in ("human_object", "ray", "latest_gesture"):
+            for kind in kinds:
+                # Field rules: a client's queries beyond the matcher's rate
+                # per client are dropped unanswered.
+                time.sleep(interval_s)
                 self.sent += 1
                 answer = self.ask(kind, h, timeout_s)
                 if answer is None:
@@ -444,6 +466,16 @@ class Run:
                     self.ok += 1
                     if int(answer.robot_track_id) == robot_id(h):
                         self.correct += 1
+                    else:
+                        self.wrong.append(
+                            {
+                                "kind": kind,
+                                "human_object": h,
+                                "robot_track_id": int(answer.robot_track_id),
+                                "expected": robot_id(h),
+                                "ray_age_us": int(answer.ray_age_us),
+                            }
+                        )
 
 
 def direction(p: tuple[float, float, float]) -> tuple[float, float, float]:
@@ -459,8 +491,29 @@ def main() -> int:
     parser.add_argument("--rounds", type=int, default=10)
     parser.add_argument("--answer-timeout", type=float, default=2.0)
     parser.add_argument("--ready-timeout", type=float, default=30.0)
+    parser.add_argument(
+        "--kinds",
+        default="human_object,ray,latest_gesture",
+        help="the QueryKind names asked for each object, in this order",
+    )
+    parser.add_argument(
+        "--defer-notify",
+        action="store_true",
+        help="notify each object's snapshots and ray only once its first query is sent"
+        " (still after each sample, as the event rules say, but all at once: the"
+        " matcher then sees the query with the samples' events)",
+    )
+    parser.add_argument(
+        "--query-interval",
+        type=float,
+        default=0.002,
+        help="seconds between queries (0.002: a quarter of the matcher's default rate per client)",
+    )
     args = parser.parse_args()
     layout = Layout(args.layout)
+    kinds = args.kinds.split(",")
+    for kind in kinds:
+        layout.code("QueryKind", kind)  # a LayoutError for an unknown kind
     version = getattr(iox2, "__version__", None)
     if version is None:
         import importlib.metadata
@@ -470,11 +523,14 @@ def main() -> int:
         print(f"iceoryx2 {version}, the layout wants {layout.schema['iceoryx2']}", file=sys.stderr)
         return 1
     client = Client(layout, args.root_path)
+    defer = args.defer_notify
     try:
         run = Run(layout, client)
         run.wait_ready(args.ready_timeout)
+        if defer:
+            client.deferred = []
         for _ in range(args.rounds):
-            run.round(args.answer_timeout)
+            run.round(args.answer_timeout, args.query_interval, kinds)
         print(
             json.dumps(
                 {
@@ -483,6 +539,7 @@ def main() -> int:
                     "ok": run.ok,
                     "correct": run.correct,
                     "statuses": run.counts,
+                    "wrong": run.wrong,
                 }
             )
         )

@@ -8,6 +8,7 @@ import json
 import re
 import subprocess
 import sys
+from typing import Any
 
 from conftest import REPO, System, binary
 
@@ -45,7 +46,9 @@ def test_the_script_knows_nothing_but_the_layout() -> None:
         assert word not in source, word
 
 
-def test_a_client_made_from_the_layout_alone_is_answered(system: System) -> None:
+def run_client(system: System, sent: int, *options: str) -> dict[str, Any]:
+    """Starts the matcher and runs the script against it with the layout
+    this system's processes use; its summary."""
     records = layout_of(system)
     # It is docs/wire-layout.json but for the prefix, this test's own.
     docs = [
@@ -73,19 +76,45 @@ def test_a_client_made_from_the_layout_alone_is_answered(system: System) -> None
             str(layout),
             "--root-path",
             system.settings.root_path,
-            "--rounds",
+            # Generous: a wait per query that only a wedged matcher reaches.
+            "--answer-timeout",
             "10",
+            "--ready-timeout",
+            "60",
+            *options,
         ],
         capture_output=True,
         text=True,
         timeout=HANG_GUARD_S,
     )
     assert run.returncode == 0, f"{run.stderr}\n{system.log('matcher')[-3000:]}"
-    summary = json.loads(run.stdout.splitlines()[-1])
-    print(summary)
+    summary: dict[str, Any] = json.loads(run.stdout.splitlines()[-1])
+    assert summary["sent"] == sent, summary
+    return summary
+
+
+def test_a_client_made_from_the_layout_alone_is_answered(system: System) -> None:
     # Ten rounds of six objects asked three ways.
-    assert summary["sent"] == 180, summary
+    summary = run_client(system, 180, "--rounds", "10")
     assert summary["answers"] >= 0.95 * summary["sent"], summary
     assert summary["ok"] >= 0.95 * summary["sent"], summary
     # Every ok answer names the object the client's table says.
     assert summary["correct"] == summary["ok"], summary
+    assert summary["wrong"] == [], summary
+
+
+def test_a_latest_gesture_asked_with_its_ray_uses_that_ray(system: System) -> None:
+    """Each object's snapshots and ray sent, then its latest_gesture query,
+    and only then their notifications, in that order: the matcher wakes
+    on the snapshots' events with the query already waiting. It took rays
+    only when the ray's own notification was handled, and answered such
+    queries with the previous ray (70 of 119 ok answers named the previous
+    object)."""
+    # Twenty rounds of six objects, each asked by latest_gesture.
+    summary = run_client(
+        system, 120, "--rounds", "20", "--kinds", "latest_gesture", "--defer-notify"
+    )
+    assert summary["answers"] >= 0.95 * summary["sent"], summary
+    assert summary["wrong"] == [], summary
+    assert summary["correct"] == summary["ok"], summary
+    assert summary["ok"] >= 0.95 * summary["sent"], summary
