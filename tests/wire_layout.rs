@@ -137,6 +137,29 @@ fn the_layout_states_the_prefix_the_type_grammar_and_the_event_rules() {
             "{needed}: {rules:?}"
         );
     }
+    // ... and how to fill the fields whose values are rules, not data
+    // (what tools/layout-client.py follows).
+    let fields: Vec<&str> = schema["field_rules"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r.as_str().unwrap())
+        .collect();
+    for needed in [
+        "schema_version",
+        "Unix epoch",
+        "sequence",
+        "object_count",
+        "feature_dim",
+        "request_id",
+        "QueryKind",
+        "AnswerStatus",
+    ] {
+        assert!(
+            fields.iter().any(|r| r.contains(needed)),
+            "{needed}: {fields:?}"
+        );
+    }
     let types: Vec<&serde_json::Value> = lines.iter().filter(|l| l["record"] == "type").collect();
     let names: Vec<&str> = types.iter().map(|t| t["name"].as_str().unwrap()).collect();
     let base = ["u8", "u16", "u32", "u64", "i32", "i64", "f32", "f64"];

@@ -29,9 +29,6 @@ pub struct Ros2Settings {
     /// Colour, depth and labels whose header stamps differ by at most this
     /// make one frame (milliseconds).
     pub stamp_tolerance_ms: f64,
-    /// Larger images are refused before any pixel is read.
-    pub max_width: u32,
-    pub max_height: u32,
     /// The headset's camera, the same way (empty: off; the headset's view
     /// then comes through vref-bridge or a feed).
     pub headset_colour_topic: String,
@@ -82,8 +79,6 @@ impl Default for Ros2Settings {
             pointing_cone_deg: 5.0,
             pointing_confidence: 1.0,
             stamp_tolerance_ms: 20.0,
-            max_width: 4096,
-            max_height: 4096,
             robot_frame_id: "camera_color_optical_frame".to_owned(),
             headset_frame_id: "headset_camera".to_owned(),
             markers_topic: "/vref/markers".to_owned(),
@@ -190,9 +185,6 @@ impl Ros2Settings {
             return Err(format!(
                 "stamp_tolerance_ms is {tol}, but must be in [0, 1000]"
             ));
-        }
-        if self.max_width == 0 || self.max_height == 0 {
-            return Err("max_width and max_height must be at least 1".to_owned());
         }
         for (name, id) in [
             ("robot_frame_id", &self.robot_frame_id),

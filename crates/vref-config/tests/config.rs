@@ -94,6 +94,15 @@ fn bad_values_are_errors_naming_the_parameter() {
         ),
         ("[perception]\nmin_pixels = 0\n", "perception.min_pixels"),
         (
+            "[perception]\nmax_image_pixels = 0\n",
+            "perception.max_image_pixels",
+        ),
+        (
+            "[perception]\nmax_image_pixels = 4294967297\n",
+            "perception.max_image_pixels",
+        ),
+        ("[perception]\nmax_image_pixels = -1\n", "max_image_pixels"),
+        (
             "[segmentation]\nmin_pixels = 0\n",
             "segmentation.min_pixels",
         ),

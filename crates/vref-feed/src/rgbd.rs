@@ -58,7 +58,7 @@ pub(crate) fn load_views(
     let mut views = Vec::with_capacity(frames.len());
     let mut detections = Vec::new();
     for (k, (name, path)) in frames.iter().enumerate() {
-        let images = RgbdImages::load(path).map_err(folder)?;
+        let images = RgbdImages::load(path, perception.image_limit()).map_err(folder)?;
         let mut up = None;
         let labels = match images.masks {
             Some(ref masks) => {

@@ -39,7 +39,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     .into_iter()
                     .enumerate()
                 {
-                    let truth = scene.load_view(image)?.origins;
+                    let truth = scene
+                        .load_view(image, options.perception.image_limit())?
+                        .origins;
                     rows[c].extend(errors(view, &truth));
                 }
             }

@@ -54,7 +54,7 @@ fn main() {
             .enumerate()
         {
             let s = settings.for_camera(pixel);
-            let view = scene.load_view(image).unwrap();
+            let view = scene.load_view(image, perception.image_limit()).unwrap();
             let frame = RgbdFrame {
                 colour: &view.colour,
                 depth: &view.depth,

@@ -37,7 +37,10 @@ fn errors(preset: &str, centre_offset: f64) -> [(Vec<f64>, Vec<f64>); 2] {
             .into_iter()
             .enumerate()
         {
-            let truth = scene.load_view(image).unwrap().origins;
+            let truth = scene
+                .load_view(image, options.perception.image_limit())
+                .unwrap()
+                .origins;
             for (d, &k) in view.detections.iter().zip(&view.instances) {
                 let t = truth[k.unwrap()];
                 let e: Vec<f64> = (0..3).map(|i| d.position[i] - t[i]).collect();

@@ -51,9 +51,25 @@ fn main() {
     let save = std::env::var_os("SAVE");
     for (n, name) in &scenes {
         let scene = dir.join(name);
-        let colour = load_colour(&scene.join("rgb.png")).unwrap();
-        let depth = DepthImage::new(load_depth(&scene.join("depth.png")).unwrap(), 0.001).unwrap();
-        let truth = load_depth(&scene.join("label.png")).unwrap();
+        let colour = load_colour(
+            &scene.join("rgb.png"),
+            vref_perception::ImageLimit::default(),
+        )
+        .unwrap();
+        let depth = DepthImage::new(
+            load_depth(
+                &scene.join("depth.png"),
+                vref_perception::ImageLimit::default(),
+            )
+            .unwrap(),
+            0.001,
+        )
+        .unwrap();
+        let truth = load_depth(
+            &scene.join("label.png"),
+            vref_perception::ImageLimit::default(),
+        )
+        .unwrap();
         let frame = RgbdFrame {
             colour: &colour,
             depth: &depth,

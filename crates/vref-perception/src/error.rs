@@ -45,7 +45,9 @@ pub enum LoadError {
         #[source]
         source: std::io::Error,
     },
-    #[error("{path}: {width}x{height} pixels, more than the {max_pixels} an image may have")]
+    #[error(
+        "{path}: {width}x{height} pixels, more than the {max_pixels} an image may have ([perception] max_image_pixels)"
+    )]
     TooLarge {
         path: PathBuf,
         width: u32,

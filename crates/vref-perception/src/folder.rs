@@ -19,10 +19,11 @@
 
 use std::path::{Path, PathBuf};
 
-use image::{DynamicImage, ImageReader, RgbImage};
+use image::{DynamicImage, RgbImage};
 
+use crate::load::decode;
 use crate::segment::LabelImage;
-use crate::{DepthImage, FrameError, Intrinsics, LoadError, load_colour, load_depth};
+use crate::{DepthImage, FrameError, ImageLimit, Intrinsics, LoadError, load_colour, load_depth};
 
 /// The colour image of a frame folder, PNG or else JPEG.
 pub const RGB_FILE: &str = "rgb.png";
@@ -248,18 +249,19 @@ pub struct RgbdImages {
 }
 
 impl RgbdImages {
-    /// Loads the frame folder `dir` with the nearest camera file.
-    pub fn load(dir: &Path) -> Result<Self, FolderError> {
+    /// Loads the frame folder `dir` with the nearest camera file; every
+    /// image larger than `limit` is refused before it is decoded.
+    pub fn load(dir: &Path, limit: ImageLimit) -> Result<Self, FolderError> {
         let camera = Camera::load(&camera_file_of(dir)?)?;
-        Self::load_with(dir, camera)
+        Self::load_with(dir, camera, limit)
     }
 
     /// Loads the frame folder `dir` taken by `camera`.
-    pub fn load_with(dir: &Path, camera: Camera) -> Result<Self, FolderError> {
+    pub fn load_with(dir: &Path, camera: Camera, limit: ImageLimit) -> Result<Self, FolderError> {
         let rgb = colour_file(dir);
         let depth_path = dir.join(DEPTH_FILE);
-        let colour = load_colour(&rgb)?;
-        let pixels = load_depth(&depth_path)?;
+        let colour = load_colour(&rgb, limit)?;
+        let pixels = load_depth(&depth_path, limit)?;
         let (width, height) = colour.dimensions();
         let same = |path: &Path, (w, h): (u32, u32)| {
             if (w, h) == (width, height) {
@@ -299,7 +301,7 @@ impl RgbdImages {
         })?;
         let masks_path = dir.join(MASKS_FILE);
         let masks = if masks_path.is_file() {
-            let labels = load_labels(&masks_path)?;
+            let labels = load_labels(&masks_path, limit)?;
             same(&masks_path, labels.dimensions())?;
             Some(labels)
         } else {
@@ -314,19 +316,10 @@ impl RgbdImages {
     }
 }
 
-/// An instance label image, 8- or 16-bit grey.
-pub fn load_labels(path: &Path) -> Result<LabelImage, FolderError> {
-    let reader = ImageReader::open(path)
-        .and_then(ImageReader::with_guessed_format)
-        .map_err(|source| LoadError::Open {
-            path: path.to_owned(),
-            source,
-        })?;
-    let decoded = reader.decode().map_err(|source| LoadError::Decode {
-        path: path.to_owned(),
-        source,
-    })?;
-    match decoded {
+/// An instance label image, 8- or 16-bit grey, refused before decoding
+/// when larger than `limit`.
+pub fn load_labels(path: &Path, limit: ImageLimit) -> Result<LabelImage, FolderError> {
+    match decode(path, limit)? {
         DynamicImage::ImageLuma16(labels) => Ok(labels),
         grey @ DynamicImage::ImageLuma8(_) => Ok(grey.to_luma16_labels()),
         other => Err(FolderError::NotLabels {

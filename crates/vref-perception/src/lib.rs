@@ -10,9 +10,11 @@
 //! use std::path::Path;
 //! use vref_perception::*;
 //!
-//! let colour = load_colour(Path::new("rgb/000000.jpg"))?;
-//! let depth = DepthImage::new(load_depth(Path::new("depth/000000.png"))?, 0.001)?;
-//! let mask = load_mask(Path::new("mask_visib/000000_000000.png"))?;
+//! let settings = PerceptionSettings::default();
+//! let limit = settings.image_limit();
+//! let colour = load_colour(Path::new("rgb/000000.jpg"), limit)?;
+//! let depth = DepthImage::new(load_depth(Path::new("depth/000000.png"), limit)?, 0.001)?;
+//! let mask = load_mask(Path::new("mask_visib/000000_000000.png"), limit)?;
 //! let masks = [Mask { id: 7, pixels: &mask }];
 //! let frame = Frame {
 //!     colour: &colour,
@@ -20,7 +22,7 @@
 //!     intrinsics: Intrinsics::new(539.0, 539.0, 320.0, 240.0)?,
 //!     masks: &masks,
 //! };
-//! let mut front_end = FrontEnd::new(PerceptionSettings::default().robot());
+//! let mut front_end = FrontEnd::new(settings.robot());
 //! let mut objects = Vec::new();
 //! let skipped = front_end.process(&frame, &mut objects)?;
 //! for o in &objects {
@@ -48,7 +50,7 @@ pub use features::{BoundingBox, COLOUR_DIM, FEATURE_DIM, SHAPE_DIM};
 pub use frame::{DepthImage, DepthPixels, Frame, MAX_DEPTH_M, Mask};
 pub use front_end::{Detection, FrontEnd, Skipped};
 pub use intrinsics::Intrinsics;
-pub use load::{MAX_IMAGE_PIXELS, load_colour, load_depth, load_mask};
+pub use load::{ImageLimit, MAX_IMAGE_PIXELS, image_size, load_colour, load_depth, load_mask};
 pub use noise::{CameraNoise, DepthLaw};
 pub use outline::{outline_polygons, signed_area};
 pub use segment::{

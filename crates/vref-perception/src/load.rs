@@ -7,11 +7,60 @@ use image::{DynamicImage, GrayImage, ImageReader, RgbImage};
 
 use crate::{DepthPixels, LoadError};
 
-/// Most pixels an image file may have (a 4096x4096 picture, twice a 4K
-/// camera's): its size is read from the header and checked before a
-/// byte of it is decoded, so a huge file cannot take the memory of every
-/// process that loads it (8000x8000 cost 0.9 GB each).
+/// The default of `[perception] max_image_pixels`: a 4096x4096 picture,
+/// twice a 4K camera's.
 pub const MAX_IMAGE_PIXELS: u64 = 4096 * 4096;
+
+/// Most pixels an image may have (`[perception] max_image_pixels`): a
+/// file's size is read from its header and checked before a byte of it
+/// is decoded, so a huge file (or one whose header only claims to be
+/// huge) cannot take the memory of every process that loads it (8000x8000
+/// cost 0.9 GB each).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ImageLimit {
+    pub max_pixels: u64,
+}
+
+impl Default for ImageLimit {
+    fn default() -> Self {
+        Self {
+            max_pixels: MAX_IMAGE_PIXELS,
+        }
+    }
+}
+
+impl ImageLimit {
+    /// Whether a `width` x `height` image is within the limit.
+    pub fn allows(self, width: u32, height: u32) -> bool {
+        u64::from(width) * u64::from(height) <= self.max_pixels
+    }
+
+    /// Refuses the image at `path` (its header stating `width` x
+    /// `height`) when it is larger than the limit.
+    pub fn check(self, path: &Path, (width, height): (u32, u32)) -> Result<(), LoadError> {
+        if self.allows(width, height) {
+            Ok(())
+        } else {
+            Err(LoadError::TooLarge {
+                path: path.to_owned(),
+                width,
+                height,
+                max_pixels: self.max_pixels,
+            })
+        }
+    }
+}
+
+/// The width and height the header of the image file at `path` states,
+/// without decoding a pixel.
+pub fn image_size(path: &Path) -> Result<(u32, u32), LoadError> {
+    open(path)?
+        .into_dimensions()
+        .map_err(|source| LoadError::Decode {
+            path: path.to_owned(),
+            source,
+        })
+}
 
 fn open(path: &Path) -> Result<ImageReader<std::io::BufReader<std::fs::File>>, LoadError> {
     ImageReader::open(path)
@@ -22,7 +71,9 @@ fn open(path: &Path) -> Result<ImageReader<std::io::BufReader<std::fs::File>>, L
         })
 }
 
-fn decode(path: &Path) -> Result<DynamicImage, LoadError> {
+/// The image at `path` decoded, once its header's size is found within
+/// `limit` (and, for a JPEG, its end found).
+pub(crate) fn decode(path: &Path, limit: ImageLimit) -> Result<DynamicImage, LoadError> {
     let decode_error = |source| LoadError::Decode {
         path: path.to_owned(),
         source,
@@ -35,15 +86,7 @@ fn decode(path: &Path) -> Result<DynamicImage, LoadError> {
             path: path.to_owned(),
         });
     }
-    let (width, height) = reader.into_dimensions().map_err(decode_error)?;
-    if u64::from(width) * u64::from(height) > MAX_IMAGE_PIXELS {
-        return Err(LoadError::TooLarge {
-            path: path.to_owned(),
-            width,
-            height,
-            max_pixels: MAX_IMAGE_PIXELS,
-        });
-    }
+    limit.check(path, reader.into_dimensions().map_err(decode_error)?)?;
     open(path)?.decode().map_err(decode_error)
 }
 
@@ -65,9 +108,10 @@ fn ends_a_jpeg(path: &Path) -> Result<bool, LoadError> {
     Ok(tail.windows(2).any(|w| w == [0xFF, 0xD9]))
 }
 
-/// A colour image (8-bit RGB; 8-bit grey is expanded to RGB).
-pub fn load_colour(path: &Path) -> Result<RgbImage, LoadError> {
-    match decode(path)? {
+/// A colour image (8-bit RGB; 8-bit grey is expanded to RGB), refused
+/// before decoding when larger than `limit`.
+pub fn load_colour(path: &Path, limit: ImageLimit) -> Result<RgbImage, LoadError> {
+    match decode(path, limit)? {
         DynamicImage::ImageRgb8(image) => Ok(image),
         grey @ DynamicImage::ImageLuma8(_) => Ok(grey.to_rgb8()),
         other => Err(LoadError::NotColour {
@@ -79,8 +123,8 @@ pub fn load_colour(path: &Path) -> Result<RgbImage, LoadError> {
 
 /// A 16-bit grey depth image; any other pixel type is refused (a depth
 /// image squeezed into 8 bits has lost its range).
-pub fn load_depth(path: &Path) -> Result<DepthPixels, LoadError> {
-    match decode(path)? {
+pub fn load_depth(path: &Path, limit: ImageLimit) -> Result<DepthPixels, LoadError> {
+    match decode(path, limit)? {
         DynamicImage::ImageLuma16(image) => Ok(image),
         other => Err(LoadError::NotDepth16 {
             path: path.to_owned(),
@@ -90,8 +134,8 @@ pub fn load_depth(path: &Path) -> Result<DepthPixels, LoadError> {
 }
 
 /// An 8-bit grey instance mask (non-zero: the object).
-pub fn load_mask(path: &Path) -> Result<GrayImage, LoadError> {
-    match decode(path)? {
+pub fn load_mask(path: &Path, limit: ImageLimit) -> Result<GrayImage, LoadError> {
+    match decode(path, limit)? {
         DynamicImage::ImageLuma8(image) => Ok(image),
         other => Err(LoadError::NotMask {
             path: path.to_owned(),

@@ -3,7 +3,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{CameraNoise, DepthLaw, SettingsError};
+use crate::{CameraNoise, DepthLaw, ImageLimit, MAX_IMAGE_PIXELS, SettingsError};
+
+/// Largest `max_image_pixels` accepted: a bigger cap would let one 16-bit
+/// image take 8 GiB.
+const MOST_IMAGE_PIXELS: u64 = 1 << 32;
 
 /// The front end's constants for both cameras (the `[perception]` table
 /// of vref.toml).
@@ -19,6 +23,9 @@ pub struct PerceptionSettings {
     /// median surface depth is 1/sqrt(2) of its radius in front of its
     /// centre; 0 reports the visible surface.
     pub centre_offset: f64,
+    /// Most pixels (width x height) an image may have, from a file or a
+    /// message: checked against its header before a pixel is decoded.
+    pub max_image_pixels: u64,
     pub robot: CameraNoise,
     pub human: CameraNoise,
 }
@@ -28,6 +35,7 @@ impl Default for PerceptionSettings {
         Self {
             min_pixels: 150,
             centre_offset: std::f64::consts::FRAC_1_SQRT_2,
+            max_image_pixels: MAX_IMAGE_PIXELS,
             robot: CameraNoise {
                 pixel: DepthLaw {
                     c: 0.0025,
@@ -68,8 +76,22 @@ impl PerceptionSettings {
                 expected: "in [0, 2]",
             });
         }
+        if !(1..=MOST_IMAGE_PIXELS).contains(&self.max_image_pixels) {
+            return Err(SettingsError::Bad {
+                name: "perception.max_image_pixels",
+                value: self.max_image_pixels as f64,
+                expected: "at least 1 and at most 2^32 (65536 x 65536)",
+            });
+        }
         self.robot.validate("robot")?;
         self.human.validate("human")
+    }
+
+    /// The size cap every image input is checked against.
+    pub fn image_limit(&self) -> ImageLimit {
+        ImageLimit {
+            max_pixels: self.max_image_pixels,
+        }
     }
 
     /// The front end's settings for the robot camera.

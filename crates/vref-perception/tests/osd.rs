@@ -28,9 +28,25 @@ fn held_aside_osd_scenes_score_above_their_floors() {
     let mut scores: Vec<ImageScore> = Vec::new();
     for n in (0..45).step_by(5) {
         let scene = dir.join(format!("learn/learn{n}"));
-        let colour = load_colour(&scene.join("rgb.png")).unwrap();
-        let depth = DepthImage::new(load_depth(&scene.join("depth.png")).unwrap(), 0.001).unwrap();
-        let truth = load_depth(&scene.join("label.png")).unwrap();
+        let colour = load_colour(
+            &scene.join("rgb.png"),
+            vref_perception::ImageLimit::default(),
+        )
+        .unwrap();
+        let depth = DepthImage::new(
+            load_depth(
+                &scene.join("depth.png"),
+                vref_perception::ImageLimit::default(),
+            )
+            .unwrap(),
+            0.001,
+        )
+        .unwrap();
+        let truth = load_depth(
+            &scene.join("label.png"),
+            vref_perception::ImageLimit::default(),
+        )
+        .unwrap();
         let frame = RgbdFrame {
             colour: &colour,
             depth: &depth,

@@ -18,8 +18,20 @@ fn frames_after_the_first_allocate_nothing() {
         "the OSD data set is missing: {}",
         scene.display()
     );
-    let colour = load_colour(&scene.join("rgb.png")).unwrap();
-    let depth = DepthImage::new(load_depth(&scene.join("depth.png")).unwrap(), 0.001).unwrap();
+    let colour = load_colour(
+        &scene.join("rgb.png"),
+        vref_perception::ImageLimit::default(),
+    )
+    .unwrap();
+    let depth = DepthImage::new(
+        load_depth(
+            &scene.join("depth.png"),
+            vref_perception::ImageLimit::default(),
+        )
+        .unwrap(),
+        0.001,
+    )
+    .unwrap();
     let frame = RgbdFrame {
         colour: &colour,
         depth: &depth,

@@ -16,7 +16,7 @@ use ros2_client::{
     qos::Durability, request_id::RmwRequestId,
 };
 use vref_config::Config;
-use vref_perception::{DepthImage, Intrinsics, LabelImage};
+use vref_perception::{DepthImage, ImageLimit, Intrinsics, LabelImage};
 use vref_scene::Side;
 use vref_view::{Asked, View};
 use vref_wire::ipc::{
@@ -26,7 +26,7 @@ use vref_wire::ipc::{
 use vref_wire::{DecisionEntry, DecisionHeader, ObjectEntry, SnapshotHeader};
 
 use crate::answer::{NewAnswers, referenced_point, trigger_failure, trigger_response};
-use crate::decode::{self, DecodeError, MaxSize, Stream};
+use crate::decode::{self, DecodeError, Stream};
 use crate::markers::{Frames, Scene, headset_pose, markers};
 use crate::msg::{self, Time};
 use crate::pairing::Pairer;
@@ -156,7 +156,7 @@ fn key(side: Side, stream: &'static str) -> &'static str {
 impl Camera {
     /// Takes every waiting message, and publishes each frame that pairs up;
     /// the objects of the last one published, if any.
-    fn drain(&mut self, counts: &mut Counts, max: MaxSize) -> Result<Option<View>, BridgeError> {
+    fn drain(&mut self, counts: &mut Counts, max: ImageLimit) -> Result<Option<View>, BridgeError> {
         let side = self.side;
         let info_key = key(side, Stream::CameraInfo.name());
         loop {
@@ -382,10 +382,7 @@ impl Drop for Asker {
 pub fn run(config: &Config) -> Result<Counts, BridgeError> {
     let s = &config.ros2;
     let domain = s.effective_domain_id().map_err(BridgeError::Settings)?;
-    let max = MaxSize {
-        width: s.max_width,
-        height: s.max_height,
-    };
+    let max = config.perception.image_limit();
 
     // iceoryx2 first: its node catches SIGINT/SIGTERM for the whole process.
     let ipc = &config.ipc;

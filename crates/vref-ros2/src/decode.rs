@@ -4,7 +4,7 @@
 //! reason, not a panic or a garbled frame.
 
 use image::{ImageBuffer, Luma, RgbImage};
-use vref_perception::{DepthImage, DepthPixels, FrameError, Intrinsics, LabelImage};
+use vref_perception::{DepthImage, DepthPixels, FrameError, ImageLimit, Intrinsics, LabelImage};
 
 use crate::msg::{CameraInfo, Image};
 
@@ -47,12 +47,13 @@ pub enum DecodeError {
         found: String,
         supported: &'static str,
     },
-    #[error("the image is {width}x{height}, larger than the {max_width}x{max_height} allowed")]
+    #[error(
+        "the image is {width}x{height}, more than the {max_pixels} pixels allowed ([perception] max_image_pixels)"
+    )]
     TooLarge {
         width: u32,
         height: u32,
-        max_width: u32,
-        max_height: u32,
+        max_pixels: u64,
     },
     #[error("the image is {width}x{height}: empty")]
     Empty { width: u32, height: u32 },
@@ -101,23 +102,20 @@ impl DecodeError {
     }
 }
 
-/// The largest image accepted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct MaxSize {
-    pub width: u32,
-    pub height: u32,
-}
-
-/// Checks size, step and data length for `bytes_per_pixel`, and returns
-/// the step as a usize.
-fn check_layout(image: &Image, bytes_per_pixel: u32, max: MaxSize) -> Result<usize, DecodeError> {
+/// Checks size (against `[perception] max_image_pixels`), step and data
+/// length for `bytes_per_pixel`, and returns the step as a usize: before
+/// any buffer is sized from the message's claims.
+fn check_layout(
+    image: &Image,
+    bytes_per_pixel: u32,
+    max: ImageLimit,
+) -> Result<usize, DecodeError> {
     let (width, height) = (image.width, image.height);
-    if width > max.width || height > max.height {
+    if !max.allows(width, height) {
         return Err(DecodeError::TooLarge {
             width,
             height,
-            max_width: max.width,
-            max_height: max.height,
+            max_pixels: max.max_pixels,
         });
     }
     if width == 0 || height == 0 {
@@ -148,7 +146,7 @@ fn rows(image: &Image, step: usize, row_bytes: usize) -> impl Iterator<Item = &[
 }
 
 /// A colour image (rgb8 or bgr8).
-pub fn colour(image: &Image, max: MaxSize) -> Result<RgbImage, DecodeError> {
+pub fn colour(image: &Image, max: ImageLimit) -> Result<RgbImage, DecodeError> {
     let bgr = match image.encoding.as_str() {
         "rgb8" => false,
         "bgr8" => true,
@@ -184,7 +182,7 @@ pub fn colour(image: &Image, max: MaxSize) -> Result<RgbImage, DecodeError> {
 fn sixteen_bit(
     image: &Image,
     stream: &'static str,
-    max: MaxSize,
+    max: ImageLimit,
 ) -> Result<ImageBuffer<Luma<u16>, Vec<u16>>, DecodeError> {
     let step = check_layout(image, 2, max)?;
     let row_bytes = image.width as usize * 2;
@@ -210,7 +208,7 @@ fn sixteen_bit(
 /// A depth image: 16UC1 (or mono16) in millimetres, or 32FC1 in metres
 /// (converted to millimetres; NaN, infinite, negative and out-of-range
 /// readings become 0, "no reading", as the front end expects).
-pub fn depth(image: &Image, max: MaxSize) -> Result<DepthImage, DecodeError> {
+pub fn depth(image: &Image, max: ImageLimit) -> Result<DepthImage, DecodeError> {
     let pixels: DepthPixels = match image.encoding.as_str() {
         "16UC1" | "mono16" => sixteen_bit(image, "depth", max)?,
         "32FC1" => {
@@ -254,7 +252,7 @@ pub fn depth(image: &Image, max: MaxSize) -> Result<DepthImage, DecodeError> {
 }
 
 /// An instance label image (16UC1 or mono16, 0 background).
-pub fn labels(image: &Image, max: MaxSize) -> Result<LabelImage, DecodeError> {
+pub fn labels(image: &Image, max: ImageLimit) -> Result<LabelImage, DecodeError> {
     match image.encoding.as_str() {
         "16UC1" | "mono16" => sixteen_bit(image, "labels", max),
         other => Err(DecodeError::Encoding {
@@ -292,9 +290,8 @@ mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
     use super::*;
 
-    const MAX: MaxSize = MaxSize {
-        width: 4096,
-        height: 4096,
+    const MAX: ImageLimit = ImageLimit {
+        max_pixels: vref_perception::MAX_IMAGE_PIXELS,
     };
 
     fn img(encoding: &str, width: u32, height: u32, step: u32, data: Vec<u8>) -> Image {
@@ -343,6 +340,45 @@ mod tests {
         // A step times height that overflows 32 bits must not wrap.
         let err = depth(&img("16UC1", 4000, 4000, u32::MAX, vec![0; 3]), MAX).unwrap_err();
         assert!(matches!(err, DecodeError::DataSize { .. }));
+        // A long thin image of more pixels than the cap, though each side
+        // is within 4096: the cap is on pixels, as for files.
+        let err = labels(&img("mono16", 65536, 300, 131072, vec![]), MAX).unwrap_err();
+        assert!(matches!(err, DecodeError::TooLarge { width: 65536, .. }));
+    }
+
+    /// `[perception] max_image_pixels` lowered: an ordinary frame is
+    /// refused by every stream, naming its size and the key, before its
+    /// (here missing) data is looked at.
+    #[test]
+    fn a_lowered_cap_refuses_an_ordinary_frame() {
+        let settings = vref_perception::PerceptionSettings {
+            max_image_pixels: 64 * 48 - 1,
+            ..Default::default()
+        };
+        let tight = settings.image_limit();
+        for err in [
+            colour(&img("rgb8", 64, 48, 192, vec![]), tight).unwrap_err(),
+            depth(&img("16UC1", 64, 48, 128, vec![]), tight).unwrap_err(),
+            labels(&img("mono16", 64, 48, 128, vec![]), tight).unwrap_err(),
+        ] {
+            assert_eq!(
+                err,
+                DecodeError::TooLarge {
+                    width: 64,
+                    height: 48,
+                    max_pixels: 3071
+                }
+            );
+            let text = err.to_string();
+            assert!(
+                text.contains("64x48") && text.contains("max_image_pixels"),
+                "{text}"
+            );
+        }
+        let roomy = vref_perception::ImageLimit {
+            max_pixels: 64 * 48,
+        };
+        assert!(colour(&img("rgb8", 64, 48, 192, vec![0; 192 * 48]), roomy).is_ok());
     }
 
     #[test]

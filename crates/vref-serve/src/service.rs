@@ -167,11 +167,17 @@ pub fn run(config: &Config) -> Result<(), ServeError> {
         }
         if id.has_event_from(&gesture_guard) {
             drain(&gesture_listener);
-            intake.take_rays(&gesture_sub);
         }
         if id.has_event_from(&request_guard) {
             drain(&request_listener);
         }
+        // Every ray sent so far, whichever event woke us: a latest-gesture
+        // query sent after a ray must be answered with it, also when the
+        // ray's notification is handled later in this wake-up (its
+        // attachment after the one in hand). Taken only on its own event,
+        // a query sent with its ray was answered with the previous ray
+        // (clients/python/tests/test_layout_client.py).
+        intake.take_rays(&gesture_sub);
         // The newest finished solve, then every waiting request: a
         // client's notification may have been merged with another event.
         let retired = intake.install_newest();

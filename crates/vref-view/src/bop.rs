@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use vref_feed::{BopImageSource, BopSceneSource, BopWorld};
 use vref_import::{BopSceneDir, ImportError};
-use vref_perception::{LoadError, load_mask, outline_polygons};
+use vref_perception::{ImageLimit, LoadError, image_size, load_mask, outline_polygons};
 
 use crate::images::{CameraImage, ImageObject, Images, SceneImages};
 
@@ -21,12 +21,6 @@ pub enum ImagesError {
     },
     #[error("{path}: not a JPEG or PNG image (by its extension)")]
     Format { path: PathBuf },
-    #[error("{path}: reading the image's size")]
-    Size {
-        path: PathBuf,
-        #[source]
-        source: image::ImageError,
-    },
     #[error(transparent)]
     Camera(#[from] ImportError),
     #[error(transparent)]
@@ -37,29 +31,33 @@ pub enum ImagesError {
 /// mask outline. `world` must be the feeds' (same folder, same
 /// `[perception]` and `[scene]` settings), or the track ids will not be
 /// the ones they publish.
-pub fn load_bop_images(world: &BopWorld) -> Result<Images, ImagesError> {
+/// Every image larger than `limit` is refused before it is read.
+pub fn load_bop_images(world: &BopWorld, limit: ImageLimit) -> Result<Images, ImagesError> {
     let scenes = world
         .sources()
         .iter()
         .map(|source: &BopSceneSource| {
             Ok(SceneImages {
                 name: source.name.clone(),
-                robot: camera(&source.scene, &source.robot)?,
-                human: camera(&source.scene, &source.human)?,
+                robot: camera(&source.scene, &source.robot, limit)?,
+                human: camera(&source.scene, &source.human, limit)?,
             })
         })
         .collect::<Result<_, ImagesError>>()?;
     Ok(Images::new(scenes))
 }
 
-fn camera(scene: &BopSceneDir, view: &BopImageSource) -> Result<CameraImage, ImagesError> {
+fn camera(
+    scene: &BopSceneDir,
+    view: &BopImageSource,
+    limit: ImageLimit,
+) -> Result<CameraImage, ImagesError> {
     let path = scene.colour_path(view.image);
     let format = format_of(&path).ok_or_else(|| ImagesError::Format { path: path.clone() })?;
+    // The size from the header, checked before the file is read whole.
+    let (width, height) = image_size(&path)?;
+    limit.check(&path, (width, height))?;
     let data = std::fs::read(&path).map_err(|source| ImagesError::Read {
-        path: path.clone(),
-        source,
-    })?;
-    let (width, height) = image::image_dimensions(&path).map_err(|source| ImagesError::Size {
         path: path.clone(),
         source,
     })?;
@@ -67,7 +65,7 @@ fn camera(scene: &BopSceneDir, view: &BopImageSource) -> Result<CameraImage, Ima
     let mut objects = Vec::new();
     for (k, id) in view.track_ids.iter().enumerate() {
         if let Some(track_id) = id {
-            let mask = load_mask(&scene.mask_path(view.image, k))?;
+            let mask = load_mask(&scene.mask_path(view.image, k), limit)?;
             objects.push(ImageObject {
                 track_id: *track_id,
                 polygons: outline_polygons(&mask),

@@ -38,8 +38,16 @@ impl Drop for Guard {
 fn write_scene(dir: &Path, name: &str) {
     let scene = repo().join("../shared/data/osd/learn").join(name);
     assert!(scene.exists(), "OSD data not found at {}", scene.display());
-    let colour = vref_perception::load_colour(&scene.join("rgb.png")).unwrap();
-    let depth = vref_perception::load_depth(&scene.join("depth.png")).unwrap();
+    let colour = vref_perception::load_colour(
+        &scene.join("rgb.png"),
+        vref_perception::ImageLimit::default(),
+    )
+    .unwrap();
+    let depth = vref_perception::load_depth(
+        &scene.join("depth.png"),
+        vref_perception::ImageLimit::default(),
+    )
+    .unwrap();
     let camera: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(repo().join("../shared/data/osd/camera.json")).unwrap(),
     )
@@ -51,7 +59,11 @@ fn write_scene(dir: &Path, name: &str) {
         .flat_map(|d| d.to_le_bytes())
         .collect();
     std::fs::write(dir.join("depth.raw"), bytes).unwrap();
-    let labels = vref_perception::load_depth(&scene.join("label.png")).unwrap();
+    let labels = vref_perception::load_depth(
+        &scene.join("label.png"),
+        vref_perception::ImageLimit::default(),
+    )
+    .unwrap();
     let bytes: Vec<u8> = labels
         .as_raw()
         .iter()

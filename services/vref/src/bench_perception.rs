@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::Context;
 use vref_config::Config;
 use vref_import::{BopDataset, BopSceneDir, BopView, datasets_in, track_ids};
-use vref_perception::{Detection, Frame, FrontEnd, FrontEndSettings, Mask};
+use vref_perception::{Detection, Frame, FrontEnd, FrontEndSettings, ImageLimit, Mask};
 
 use crate::cli::BenchPerceptionArgs;
 use crate::failure::{Blame, Failure};
@@ -35,7 +35,12 @@ pub fn perception(args: &BenchPerceptionArgs) -> Result<(), Failure> {
     let settings = config.perception;
     for dir in datasets_in(&args.dataset, &args.split).bad_input()? {
         let dataset = BopDataset::open(&dir, &args.split).bad_input()?;
-        let timing = time_dataset(&dataset, args, [settings.robot(), settings.human()])?;
+        let timing = time_dataset(
+            &dataset,
+            args,
+            [settings.robot(), settings.human()],
+            settings.image_limit(),
+        )?;
         let line = if args.json {
             serde_json::to_string(&timing)
                 .context("encoding")
@@ -63,6 +68,7 @@ fn time_dataset(
     dataset: &BopDataset,
     args: &BenchPerceptionArgs,
     settings: [FrontEndSettings; 2],
+    limit: ImageLimit,
 ) -> Result<Timing, Failure> {
     let mut views: Vec<(BopView, Vec<u64>, usize)> = Vec::new();
     let mut decode_us = Vec::new();
@@ -70,10 +76,10 @@ fn time_dataset(
         for (camera, image) in [(0, args.robot_image), (1, args.human_image)] {
             for _ in 0..args.repeats {
                 let start = Instant::now();
-                load(scene, image)?;
+                load(scene, image, limit)?;
                 decode_us.push(start.elapsed().as_secs_f64() * 1e6);
             }
-            let view = load(scene, image)?;
+            let view = load(scene, image, limit)?;
             let ids = track_ids(scene.id, image, view.masks.len(), 0);
             views.push((view, ids, camera));
         }
@@ -124,8 +130,8 @@ fn time_dataset(
     })
 }
 
-fn load(scene: &BopSceneDir, image: u32) -> Result<BopView, Failure> {
-    scene.load_view(image).bad_input()
+fn load(scene: &BopSceneDir, image: u32, limit: ImageLimit) -> Result<BopView, Failure> {
+    scene.load_view(image, limit).bad_input()
 }
 
 /// Nearest rank (vref_measure's one definition); 0 without values.

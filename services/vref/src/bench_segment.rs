@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::Context;
 use vref_config::Config;
 use vref_perception::segment::score::{ImageScore, MeanScore, score_image};
-use vref_perception::{LabelImage, RgbdFrame, Segmentation, Segmenter, load_depth};
+use vref_perception::{ImageLimit, LabelImage, RgbdFrame, Segmentation, Segmenter, load_depth};
 
 use crate::cli::BenchSegmentArgs;
 use crate::failure::{Blame, Failure};
@@ -134,11 +134,20 @@ pub fn segment(args: &BenchSegmentArgs) -> Result<(), Failure> {
     let camera = load_camera(&camera_path).bad_input()?;
     let mut frames: Vec<(String, Images, Option<LabelImage>)> = Vec::new();
     for (name, dir) in scene_dirs(&args.dataset).bad_input()? {
-        let images =
-            load_frame(&dir.join("rgb.png"), &dir.join("depth.png"), &camera).bad_input()?;
+        let images = load_frame(
+            &dir.join("rgb.png"),
+            &dir.join("depth.png"),
+            &camera,
+            config.perception.image_limit(),
+        )
+        .bad_input()?;
         let truth_path = dir.join("label.png");
         let truth = if truth_path.is_file() {
-            Some(load_truth(&truth_path, &images)?)
+            Some(load_truth(
+                &truth_path,
+                &images,
+                config.perception.image_limit(),
+            )?)
         } else {
             None
         };
@@ -286,8 +295,8 @@ fn human(s: &Summary, all: Option<&Group>) -> String {
     text
 }
 
-fn load_truth(path: &Path, images: &Images) -> Result<LabelImage, Failure> {
-    let truth = load_depth(path)
+fn load_truth(path: &Path, images: &Images, limit: ImageLimit) -> Result<LabelImage, Failure> {
+    let truth = load_depth(path, limit)
         .with_context(|| "a ground-truth label image must be 16-bit grey")
         .bad_input()?;
     if truth.dimensions() != images.colour.dimensions() {

@@ -11,8 +11,8 @@ use vref_config::Config;
 use vref_match::{Method, OkRule, Params, Problem, Solution, SolveOptions, Verdict, solve_with};
 use vref_perception::folder::RgbdImages;
 use vref_perception::{
-    Detection, Frame, FrontEnd, LabelImage, LabelMask, Mask, RgbdFrame, Segmentation, Segmenter,
-    label_masks,
+    Detection, Frame, FrontEnd, ImageLimit, LabelImage, LabelMask, Mask, RgbdFrame, Segmentation,
+    Segmenter, label_masks,
 };
 use vref_scene::{Limits, SceneGraph, SceneObject};
 use vref_viz::{Answer, AnswerPicture, AnswerStatus, ImageObject, ViewImage};
@@ -60,8 +60,21 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
     let mut human_segmenter = Segmenter::new(segmentation.for_camera(perception.human.pixel));
     let mut robot_end = FrontEnd::new(perception.robot());
     let mut human_end = FrontEnd::new(perception.human());
-    let robot = view(&args.robot, "robot", &mut robot_segmenter, &mut robot_end)?;
-    let human = view(&args.human, "person", &mut human_segmenter, &mut human_end)?;
+    let limit = perception.image_limit();
+    let robot = view(
+        &args.robot,
+        "robot",
+        limit,
+        &mut robot_segmenter,
+        &mut robot_end,
+    )?;
+    let human = view(
+        &args.human,
+        "person",
+        limit,
+        &mut human_segmenter,
+        &mut human_end,
+    )?;
     let lines = answer(&human, &robot, method, &config)?;
     if let Some(dir) = &args.labels_out {
         std::fs::create_dir_all(dir)
@@ -111,10 +124,11 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
 fn view(
     dir: &Path,
     who: &str,
+    limit: ImageLimit,
     segmenter: &mut Segmenter,
     front_end: &mut FrontEnd,
 ) -> Result<View, Failure> {
-    let images = RgbdImages::load(dir)
+    let images = RgbdImages::load(dir, limit)
         .with_context(|| format!("the {who}'s frame {}", dir.display()))
         .bad_input()?;
     let mut up = None;

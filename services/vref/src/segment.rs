@@ -8,8 +8,8 @@ use anyhow::{Context, anyhow, bail};
 use image::RgbImage;
 use vref_config::Config;
 use vref_perception::{
-    DepthImage, Intrinsics, LabelImage, RgbdFrame, Segmentation, Segmenter, load_colour,
-    load_depth, segment::overlay,
+    DepthImage, ImageLimit, Intrinsics, LabelImage, RgbdFrame, Segmentation, Segmenter,
+    load_colour, load_depth, segment::overlay,
 };
 
 use crate::cli::SegmentArgs;
@@ -101,9 +101,14 @@ pub struct Images {
     pub depth: DepthImage,
 }
 
-pub fn load_frame(rgb: &Path, depth: &Path, camera: &Camera) -> anyhow::Result<Images> {
-    let colour = load_colour(rgb)?;
-    let pixels = load_depth(depth)?;
+pub fn load_frame(
+    rgb: &Path,
+    depth: &Path,
+    camera: &Camera,
+    limit: ImageLimit,
+) -> anyhow::Result<Images> {
+    let colour = load_colour(rgb, limit)?;
+    let pixels = load_depth(depth, limit)?;
     let (cw, ch) = colour.dimensions();
     let (dw, dh) = pixels.dimensions();
     if (cw, ch) != (dw, dh) {
@@ -225,7 +230,8 @@ pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
     };
     let camera = load_camera(&camera_path).bad_input()?;
     for (name, rgb, depth, out, over) in jobs {
-        let images = load_frame(&rgb, &depth, &camera).bad_input()?;
+        let images =
+            load_frame(&rgb, &depth, &camera, config.perception.image_limit()).bad_input()?;
         let frame = RgbdFrame {
             colour: &images.colour,
             depth: &images.depth,

@@ -54,7 +54,7 @@ pub fn load_images(config: &Config, dir: &Path) -> Result<Arc<Images>, Failure> 
     let world = BopWorld::load(dir, config.perception, config.scene.limits(), 1.0)
         .with_context(|| format!("--images bop:{}", dir.display()))
         .bad_input()?;
-    let images = vref_view::load_bop_images(&world)
+    let images = vref_view::load_bop_images(&world, config.perception.image_limit())
         .with_context(|| format!("--images bop:{}", dir.display()))
         .bad_input()?;
     tracing::info!(scenes = images.scenes().len(), "images loaded");

@@ -78,8 +78,12 @@ fn bop(args: &VizArgs, dir: &Path, config: &Config, params: &Params) -> Result<(
     let scene = BopScene::measure(&dataset, scene_dir, &options).bad_input()?;
     let pair = scene.pair(&config.scene.limits()).bad_input()?;
     let predicted = matched(&pair, args.method, params)?;
-    let human_view = scene_dir.load_view(options.human_image).bad_input()?;
-    let robot_view = scene_dir.load_view(options.robot_image).bad_input()?;
+    let human_view = scene_dir
+        .load_view(options.human_image, config.perception.image_limit())
+        .bad_input()?;
+    let robot_view = scene_dir
+        .load_view(options.robot_image, config.perception.image_limit())
+        .bad_input()?;
     let human = view_image(&human_view, &scene.human);
     let robot = view_image(&robot_view, &scene.robot);
     ImageMatchPicture::new(&pair, &predicted, args.method.name(), &human, &robot)

@@ -48,6 +48,22 @@ const EVENT_RULES: [&str; 4] = [
     "every process opens or creates the services with exactly the qos given here, under iceoryx2's file prefix `iceoryx2_prefix` (iceoryx2's own default, iox2_, never meets the services)",
 ];
 
+/// How a sender fills the fields whose values are rules rather than data,
+/// and what a reader takes from an answer: what a client written from this
+/// file alone needs beyond the layout to be answered (issue 40).
+const FIELD_RULES: [&str; 10] = [
+    "every `schema_version` field holds the schema record's `schema_version`; `reserved` fields hold 0",
+    "`timestamp_ns` is the capture time in nanoseconds since the Unix epoch (the sender's clock, which must agree with the matcher's): the matcher refuses a message older than its [matcher] max_capture_age_ms (default 10 s) or ahead of its clock by more than max_clock_skew_ms (default 100 ms), and an answer resting on a snapshot older than stale_after_ms (default 500 ms) is `stale`, so a sender keeps publishing",
+    "`session` is a number the sender picks anew each time it starts; `sequence` counts its messages on a service from 1 and must grow within a session",
+    "SnapshotHeader: `side` is the SideCode of the service (robot on robot/snapshot, human on human/snapshot); `object_count` is the number of ObjectEntry in the sample's slice; `feature_dim` is how many leading `feature` values are used (at most MAX_FEATURE_DIM, the same on both sides; the rest 0); `frame_name` is UTF-8 padded with 0 bytes; `up` is the view's up vector with flag `up` set, else zeros and no flag",
+    "ObjectEntry: `track_id` is unique within its snapshot and names the object in answers; `position` is in metres in the view's camera frame; `position_sigma` is the position's standard deviation per axis in metres (>= 0; 0: not stated); `feature` is an appearance description compared between the sides",
+    "PointingRay: `origin` and `direction` in the human view's camera frame (direction non-zero), `cone_half_angle` in radians in (0, pi/2], `confidence` in [0, 1]",
+    "ReferenceQuery: `request_id` is the client's own number, echoed by the answer; `kind` is a QueryKind: human_object asks for the robot object that the human snapshot's object `human_object_id` is, ray for the object the ray (`ray_origin`, `ray_direction`, `cone_half_angle`, human camera frame) points at, latest_gesture for the one the latest PointingRay points at; fields a kind does not use hold 0",
+    "ReferenceAnswer: `status` is an AnswerStatus; with ok (an answer to act on) or ambiguous, `robot_track_id` names the robot snapshot's object and `position` is its position in the robot camera frame; `alternative_count` of `alternatives` are the next candidates",
+    "answers come only once both a robot and a human snapshot were accepted and solved: until then, and for a query whose object is not in the human snapshot, the status says why (not_ready, bad_request)",
+    "a client is answered at most [matcher] max_queries_per_client_hz times a second (default 2000, in bursts of a tenth of a second's worth): queries beyond it are dropped unanswered (and counted)",
+];
+
 /// The matcher's reject reasons: the index of `MatcherStats.rejected`,
 /// and the value of `ReferenceAnswer.refusal`.
 fn reject_reasons() -> Codes {
@@ -92,6 +108,7 @@ pub fn lines(ipc: &IpcSettings) -> Vec<Value> {
         "iceoryx2_prefix": ipc.prefix,
         "type_grammar": TYPE_GRAMMAR,
         "event_rules": EVENT_RULES,
+        "field_rules": FIELD_RULES,
     })];
     let tagged = |record: &str, value: Value| {
         let mut value = value;

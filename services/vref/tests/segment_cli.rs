@@ -200,3 +200,110 @@ fn a_folder_of_scenes_gives_a_label_png_and_an_overlay_each() {
     assert_eq!(summary["images"], 2);
     assert!(summary["overlap_f"].as_f64().unwrap() > 0.9, "{summary}");
 }
+
+/// `[perception] max_image_pixels` in a configuration file: checked by
+/// `vref config check`, and lowered, it refuses an ordinary frame in
+/// `vref segment` and `vref match`, naming the file, its size and the key.
+#[test]
+fn a_lowered_image_cap_refuses_a_normal_frame_naming_file_size_and_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let [rgb, depth, camera, out] = frame(dir.path(), (64, 48), (64, 48), 800);
+    let write = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_owned()
+    };
+    for (name, value) in [("zero.toml", "0"), ("huge.toml", "4294967297")] {
+        let bad = write(name, &format!("[perception]\nmax_image_pixels = {value}\n"));
+        refused(
+            &["config", "check", &bad],
+            &["perception.max_image_pixels", value],
+        );
+    }
+    let roomy = write("roomy.toml", "[perception]\nmax_image_pixels = 3072\n");
+    let out_ok = vref(&["config", "check", &roomy]);
+    assert!(out_ok.status.success(), "{}", stderr(&out_ok));
+    let tight = write("tight.toml", "[perception]\nmax_image_pixels = 3071\n");
+    let segment = |config: &str| {
+        vec![
+            "segment".to_owned(),
+            "--rgb".to_owned(),
+            rgb.clone(),
+            "--depth".to_owned(),
+            depth.clone(),
+            "--camera".to_owned(),
+            camera.clone(),
+            "--out".to_owned(),
+            out.clone(),
+            "--config".to_owned(),
+            config.to_owned(),
+        ]
+    };
+    let args = segment(&tight);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    refused(
+        &args,
+        &["rgb.png", "64x48", "3071", "[perception] max_image_pixels"],
+    );
+    // The same frame within the cap gets as far as segmenting (a uniform
+    // depth has no objects on a plane to find, but the images were read).
+    let args = segment(&roomy);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let within = vref(&args);
+    assert!(
+        !stderr(&within).contains("max_image_pixels"),
+        "{}",
+        stderr(&within)
+    );
+    // `vref match` on frame folders.
+    let frames = dir.path().to_str().unwrap();
+    refused(
+        &["match", frames, frames, "--config", &tight],
+        &["rgb.png", "64x48", "max_image_pixels"],
+    );
+}
+
+/// A PNG whose header claims 100000 x 100000 pixels (a file of a few
+/// dozen bytes) is refused from its header by `vref segment`.
+#[test]
+fn a_png_claiming_a_huge_size_is_refused_from_its_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let [rgb, depth, camera, out] = frame(dir.path(), (64, 48), (64, 48), 800);
+    // Signature, then an IHDR of 100000 x 100000 8-bit RGB (CRC included),
+    // a one-block empty zlib stream and IEND.
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut chunk = |kind: &[u8], data: &[u8]| {
+        png.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let mut body = kind.to_vec();
+        body.extend_from_slice(data);
+        let mut crc = !0u32;
+        for &b in &body {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 == 1 {
+                    (crc >> 1) ^ 0xEDB8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        png.extend_from_slice(&body);
+        png.extend_from_slice(&(!crc).to_be_bytes());
+    };
+    let mut header = 100_000u32.to_be_bytes().to_vec();
+    header.extend_from_slice(&100_000u32.to_be_bytes());
+    header.extend_from_slice(&[8, 2, 0, 0, 0]);
+    chunk(b"IHDR", &header);
+    chunk(
+        b"IDAT",
+        &[0x78, 0x01, 0x01, 0x00, 0x00, 0xFF, 0xFF, 0, 0, 0, 1],
+    );
+    chunk(b"IEND", &[]);
+    std::fs::write(&rgb, &png).unwrap();
+    refused(
+        &[
+            "segment", "--rgb", &rgb, "--depth", &depth, "--camera", &camera, "--out", &out,
+        ],
+        &["rgb.png", "100000x100000", "max_image_pixels"],
+    );
+}

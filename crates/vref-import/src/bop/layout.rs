@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use image::{GrayImage, RgbImage};
 use serde::Deserialize;
-use vref_perception::{DepthImage, Intrinsics, load_colour, load_depth, load_mask};
+use vref_perception::{DepthImage, ImageLimit, Intrinsics, load_colour, load_depth, load_mask};
 
 use crate::ImportError;
 
@@ -147,7 +147,8 @@ impl BopSceneDir {
     /// Image `image` of the scene: its camera, ground truth, colour, depth
     /// and every instance's mask, each checked to have the colour image's
     /// size.
-    pub fn load_view(&self, image: u32) -> Result<BopView, ImportError> {
+    /// Every image larger than `limit` is refused before it is decoded.
+    pub fn load_view(&self, image: u32, limit: ImageLimit) -> Result<BopView, ImportError> {
         let key = image.to_string();
         let (camera_path, camera) = self.camera_record(image)?;
         let intrinsics =
@@ -164,10 +165,10 @@ impl BopSceneDir {
         })?;
 
         let colour_path = self.colour_path(image);
-        let colour = load_colour(&colour_path).map_err(ImportError::from)?;
+        let colour = load_colour(&colour_path, limit).map_err(ImportError::from)?;
         let size = colour.dimensions();
         let depth_path = self.dir.join("depth").join(format!("{image:06}.png"));
-        let depth_pixels = load_depth(&depth_path)?;
+        let depth_pixels = load_depth(&depth_path, limit)?;
         check_size(&depth_path, depth_pixels.dimensions(), &colour_path, size)?;
         let depth =
             DepthImage::new(depth_pixels, camera.depth_scale / 1000.0).map_err(|source| {
@@ -180,7 +181,7 @@ impl BopSceneDir {
         let mut masks = Vec::with_capacity(instances.len());
         for k in 0..instances.len() {
             let path = self.mask_path(image, k);
-            let mask = load_mask(&path)?;
+            let mask = load_mask(&path, limit)?;
             check_size(&path, mask.dimensions(), &colour_path, size)?;
             masks.push(mask);
         }

@@ -263,7 +263,7 @@ impl BopScene {
         let mut robot_end = FrontEnd::new(options.perception.robot());
         let mut human_end = FrontEnd::new(options.perception.human());
         let view = |image: u32, base: u64, front_end: &mut FrontEnd| {
-            let loaded = scene.load_view(image)?;
+            let loaded = scene.load_view(image, options.perception.image_limit())?;
             let ids = track_ids(scene.id, image, loaded.masks.len(), base);
             let mut measured =
                 MeasuredView::measure(&loaded, ids, front_end).map_err(|source| {
@@ -300,7 +300,7 @@ impl BopScene {
         let mut human_segmenter =
             Segmenter::new(segmentation.for_camera(options.perception.human.pixel));
         let view = |image: u32, base: u64, front_end: &mut FrontEnd, segmenter: &mut Segmenter| {
-            let loaded = scene.load_view(image)?;
+            let loaded = scene.load_view(image, options.perception.image_limit())?;
             let up = camera_up(&loaded, options.world_up);
             let ids = |n| track_ids(scene.id, image, n, base);
             // Past every segment's id: the ids of instances no segment is.
