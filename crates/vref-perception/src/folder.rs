@@ -183,7 +183,7 @@ pub fn is_frame_dir(dir: &Path) -> bool {
 }
 
 /// The colour image of frame folder `dir`: rgb.png, else rgb.jpg.
-fn colour_file(dir: &Path) -> PathBuf {
+pub fn colour_file(dir: &Path) -> PathBuf {
     let png = dir.join(RGB_FILE);
     let jpeg = dir.join(RGB_JPEG_FILE);
     if !png.is_file() && jpeg.is_file() {
@@ -227,8 +227,9 @@ pub fn frame_dirs(dir: &Path) -> Result<Vec<(String, PathBuf)>, FolderError> {
     Ok(frames)
 }
 
-/// A name's text before its trailing number, and the number.
-fn natural_key(name: &str) -> (String, u64, String) {
+/// A name's text before its trailing number, and the number: sorting by
+/// it puts learn2 before learn10.
+pub fn natural_key(name: &str) -> (String, u64, String) {
     let digits = name.len() - name.trim_end_matches(|c: char| c.is_ascii_digit()).len();
     let (stem, number) = name.split_at(name.len() - digits);
     (
@@ -258,8 +259,29 @@ impl RgbdImages {
 
     /// Loads the frame folder `dir` taken by `camera`.
     pub fn load_with(dir: &Path, camera: Camera, limit: ImageLimit) -> Result<Self, FolderError> {
-        let rgb = colour_file(dir);
-        let depth_path = dir.join(DEPTH_FILE);
+        let masks = dir.join(MASKS_FILE);
+        let masks = masks.is_file().then_some(masks);
+        Self::load_files(
+            &colour_file(dir),
+            &dir.join(DEPTH_FILE),
+            masks.as_deref(),
+            camera,
+            limit,
+        )
+    }
+
+    /// Loads a frame from its files, wherever they are: the colour and
+    /// depth images and, if given, its masks, checked against each other
+    /// and the camera.
+    pub fn load_files(
+        rgb: &Path,
+        depth_path: &Path,
+        masks_path: Option<&Path>,
+        camera: Camera,
+        limit: ImageLimit,
+    ) -> Result<Self, FolderError> {
+        let rgb = rgb.to_owned();
+        let depth_path = depth_path.to_owned();
         let colour = load_colour(&rgb, limit)?;
         let pixels = load_depth(&depth_path, limit)?;
         let (width, height) = colour.dimensions();
@@ -299,13 +321,13 @@ impl RgbdImages {
                 source,
             }
         })?;
-        let masks_path = dir.join(MASKS_FILE);
-        let masks = if masks_path.is_file() {
-            let labels = load_labels(&masks_path, limit)?;
-            same(&masks_path, labels.dimensions())?;
-            Some(labels)
-        } else {
-            None
+        let masks = match masks_path {
+            Some(path) => {
+                let labels = load_labels(path, limit)?;
+                same(path, labels.dimensions())?;
+                Some(labels)
+            }
+            None => None,
         };
         Ok(Self {
             camera,

@@ -2,18 +2,19 @@
 //! images decoded beforehand) and, where a scene has its ground truth,
 //! the scores of ../shared/data/osd/PROVENANCE.md's protocol.
 
-use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Context;
 use vref_config::Config;
 use vref_perception::segment::score::{ImageScore, MeanScore, score_image};
-use vref_perception::{ImageLimit, LabelImage, RgbdFrame, Segmentation, Segmenter, load_depth};
+use vref_perception::{LabelImage, RgbdFrame, Segmentation, Segmenter};
 
 use crate::cli::BenchSegmentArgs;
 use crate::failure::{Blame, Failure};
-use crate::segment::{Images, camera_of, load_camera, load_frame, natural_key, scene_dirs};
 use crate::stdout;
+use vref_perception::folder::{
+    Camera, DEPTH_FILE, RgbdImages, camera_file_of, colour_file, frame_dirs, natural_key,
+};
 
 /// One scene's result.
 #[derive(Debug, serde::Serialize)]
@@ -129,35 +130,30 @@ pub fn segment(args: &BenchSegmentArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
     let camera_path = match &args.camera {
         Some(path) => path.clone(),
-        None => camera_of(&args.dataset).bad_input()?,
+        None => camera_file_of(&args.dataset).bad_input()?,
     };
-    let camera = load_camera(&camera_path).bad_input()?;
-    let mut frames: Vec<(String, Images, Option<LabelImage>)> = Vec::new();
-    for (name, dir) in scene_dirs(&args.dataset).bad_input()? {
-        let images = load_frame(
-            &dir.join("rgb.png"),
-            &dir.join("depth.png"),
-            &camera,
+    let camera = Camera::load(&camera_path).bad_input()?;
+    let mut frames: Vec<(String, RgbdImages)> = Vec::new();
+    for (name, dir) in frame_dirs(&args.dataset).bad_input()? {
+        // The scene's ground-truth labels load as its masks: checked
+        // against the colour image's size like any.
+        let truth = dir.join("label.png");
+        let images = RgbdImages::load_files(
+            &colour_file(&dir),
+            &dir.join(DEPTH_FILE),
+            truth.is_file().then_some(truth.as_path()),
+            camera,
             config.perception.image_limit(),
         )
         .bad_input()?;
-        let truth_path = dir.join("label.png");
-        let truth = if truth_path.is_file() {
-            Some(load_truth(
-                &truth_path,
-                &images,
-                config.perception.image_limit(),
-            )?)
-        } else {
-            None
-        };
-        frames.push((name, images, truth));
+        frames.push((name, images));
     }
     let mut segmenter = Segmenter::new(config.segmentation);
     let mut labels = LabelImage::new(1, 1);
     let mut all_us = Vec::new();
     let mut lines = Vec::new();
-    for (name, images, truth) in &frames {
+    for (name, images) in &frames {
+        let truth = &images.masks;
         let frame = RgbdFrame {
             colour: &images.colour,
             depth: &images.depth,
@@ -293,22 +289,6 @@ fn human(s: &Summary, all: Option<&Group>) -> String {
         ));
     }
     text
-}
-
-fn load_truth(path: &Path, images: &Images, limit: ImageLimit) -> Result<LabelImage, Failure> {
-    let truth = load_depth(path, limit)
-        .with_context(|| "a ground-truth label image must be 16-bit grey")
-        .bad_input()?;
-    if truth.dimensions() != images.colour.dimensions() {
-        let (w, h) = truth.dimensions();
-        let (cw, ch) = images.colour.dimensions();
-        return Err(anyhow::anyhow!(
-            "{} is {w}x{h}, but the colour image is {cw}x{ch}",
-            path.display()
-        ))
-        .bad_input();
-    }
-    Ok(truth)
 }
 
 /// Nearest rank (vref_measure's one definition); 0 without values.

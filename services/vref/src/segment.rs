@@ -4,171 +4,16 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, anyhow, bail};
-use image::RgbImage;
+use anyhow::{Context, anyhow};
 use vref_config::Config;
-use vref_perception::{
-    DepthImage, ImageLimit, Intrinsics, LabelImage, RgbdFrame, Segmentation, Segmenter,
-    load_colour, load_depth, segment::overlay,
+use vref_perception::folder::{
+    Camera, DEPTH_FILE, RgbdImages, camera_file_of, colour_file, frame_dirs,
 };
+use vref_perception::{LabelImage, RgbdFrame, Segmentation, Segmenter, segment::overlay};
 
 use crate::cli::SegmentArgs;
 use crate::failure::{Blame, Failure};
 use crate::stdout;
-
-/// The camera file: a pinhole camera and the depth unit.
-#[derive(Debug, serde::Deserialize)]
-struct CameraFile {
-    fx: f64,
-    fy: f64,
-    cx: f64,
-    cy: f64,
-    width: Option<u32>,
-    height: Option<u32>,
-    /// Millimetres per depth unit.
-    #[serde(default = "one")]
-    depth_scale_mm: f64,
-}
-
-fn one() -> f64 {
-    1.0
-}
-
-/// A camera's intrinsics, depth unit (metres) and stated image size.
-#[derive(Debug, Clone, Copy)]
-pub struct Camera {
-    pub intrinsics: Intrinsics,
-    pub metres_per_unit: f64,
-    size: Option<(u32, u32)>,
-}
-
-pub fn load_camera(path: &Path) -> anyhow::Result<Camera> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let file: CameraFile = serde_json::from_str(&text)
-        .with_context(|| format!("{}: not a camera file", path.display()))?;
-    for (name, value) in [("fx", file.fx), ("fy", file.fy)] {
-        if !(value.is_finite() && value > 0.0) {
-            bail!(
-                "{}: {name} is {value}, but must be finite and positive",
-                path.display()
-            );
-        }
-    }
-    let intrinsics = Intrinsics::new(file.fx, file.fy, file.cx, file.cy)
-        .with_context(|| format!("{}: bad intrinsics", path.display()))?;
-    let scale = file.depth_scale_mm;
-    if !(scale.is_finite() && scale > 0.0) {
-        bail!(
-            "{}: depth_scale_mm is {scale}, but must be finite and positive",
-            path.display()
-        );
-    }
-    let size = match (file.width, file.height) {
-        (Some(w), Some(h)) => Some((w, h)),
-        (None, None) => None,
-        _ => bail!("{}: give both width and height, or neither", path.display()),
-    };
-    Ok(Camera {
-        intrinsics,
-        metres_per_unit: scale / 1000.0,
-        size,
-    })
-}
-
-/// The camera file of a folder of scenes: DIR/camera.json, else the one
-/// beside DIR (the OSD layout keeps it beside learn/ and test/).
-pub fn camera_of(dir: &Path) -> anyhow::Result<PathBuf> {
-    let inside = dir.join("camera.json");
-    let beside = dir.join("../camera.json");
-    [&inside, &beside]
-        .into_iter()
-        .find(|p| p.is_file())
-        .cloned()
-        .ok_or_else(|| {
-            anyhow!(
-                "no camera file: neither {} nor {} exists (give --camera)",
-                inside.display(),
-                beside.display()
-            )
-        })
-}
-
-/// One frame's decoded images, checked against each other and the camera.
-#[derive(Debug)]
-pub struct Images {
-    pub colour: RgbImage,
-    pub depth: DepthImage,
-}
-
-pub fn load_frame(
-    rgb: &Path,
-    depth: &Path,
-    camera: &Camera,
-    limit: ImageLimit,
-) -> anyhow::Result<Images> {
-    let colour = load_colour(rgb, limit)?;
-    let pixels = load_depth(depth, limit)?;
-    let (cw, ch) = colour.dimensions();
-    let (dw, dh) = pixels.dimensions();
-    if (cw, ch) != (dw, dh) {
-        bail!(
-            "{} is {dw}x{dh}, but {} is {cw}x{ch}: the depth image must have the colour image's size",
-            depth.display(),
-            rgb.display()
-        );
-    }
-    if let Some((w, h)) = camera.size
-        && (w, h) != (cw, ch)
-    {
-        bail!(
-            "{} is {cw}x{ch}, but the camera file says {w}x{h}",
-            rgb.display()
-        );
-    }
-    if pixels.as_raw().iter().all(|&d| d == 0) {
-        bail!(
-            "{}: every pixel is 0 (no depth reading at all)",
-            depth.display()
-        );
-    }
-    let depth = DepthImage::new(pixels, camera.metres_per_unit)?;
-    Ok(Images { colour, depth })
-}
-
-/// The scene folders of `dir` (those holding rgb.png and depth.png), in
-/// natural order (learn2 before learn10).
-pub fn scene_dirs(dir: &Path) -> anyhow::Result<Vec<(String, PathBuf)>> {
-    let entries = std::fs::read_dir(dir)
-        .with_context(|| format!("cannot read the folder {}", dir.display()))?;
-    let mut scenes = Vec::new();
-    for entry in entries {
-        let entry = entry.with_context(|| format!("cannot read the folder {}", dir.display()))?;
-        let path = entry.path();
-        if path.join("rgb.png").is_file() && path.join("depth.png").is_file() {
-            scenes.push((entry.file_name().to_string_lossy().into_owned(), path));
-        }
-    }
-    if scenes.is_empty() {
-        bail!(
-            "{}: no scene folders (SCENE/rgb.png and SCENE/depth.png)",
-            dir.display()
-        );
-    }
-    scenes.sort_by_key(|a| natural_key(&a.0));
-    Ok(scenes)
-}
-
-/// A name's text before its trailing number, and the number.
-pub fn natural_key(name: &str) -> (String, u64, String) {
-    let digits = name.len() - name.trim_end_matches(|c: char| c.is_ascii_digit()).len();
-    let (stem, number) = name.split_at(name.len() - digits);
-    (
-        stem.to_owned(),
-        number.parse().unwrap_or(u64::MAX),
-        name.to_owned(),
-    )
-}
 
 #[derive(Debug, serde::Serialize)]
 struct FrameLine<'a> {
@@ -185,7 +30,7 @@ pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
     let mut labels = LabelImage::new(1, 1);
     let jobs: Vec<(String, PathBuf, PathBuf, PathBuf, Option<PathBuf>)> = match &args.dir {
         Some(dir) => {
-            let scenes = scene_dirs(dir).bad_input()?;
+            let scenes = frame_dirs(dir).bad_input()?;
             for folder in std::iter::once(&args.out).chain(&args.overlay) {
                 std::fs::create_dir_all(folder)
                     .with_context(|| format!("cannot create the folder {}", folder.display()))
@@ -196,13 +41,7 @@ pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
                 .map(|(name, path)| {
                     let out = args.out.join(format!("{name}.png"));
                     let over = args.overlay.as_ref().map(|o| o.join(format!("{name}.png")));
-                    (
-                        name,
-                        path.join("rgb.png"),
-                        path.join("depth.png"),
-                        out,
-                        over,
-                    )
+                    (name, colour_file(&path), path.join(DEPTH_FILE), out, over)
                 })
                 .collect()
         }
@@ -225,13 +64,14 @@ pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
     };
     let camera_path = match (&args.camera, &args.dir) {
         (Some(c), _) => c.clone(),
-        (None, Some(dir)) => camera_of(dir).bad_input()?,
+        (None, Some(dir)) => camera_file_of(dir).bad_input()?,
         (None, None) => return Err(anyhow!("--camera: give the camera file")).bad_input(),
     };
-    let camera = load_camera(&camera_path).bad_input()?;
+    let camera = Camera::load(&camera_path).bad_input()?;
     for (name, rgb, depth, out, over) in jobs {
         let images =
-            load_frame(&rgb, &depth, &camera, config.perception.image_limit()).bad_input()?;
+            RgbdImages::load_files(&rgb, &depth, None, camera, config.perception.image_limit())
+                .bad_input()?;
         let frame = RgbdFrame {
             colour: &images.colour,
             depth: &images.depth,
