@@ -444,15 +444,25 @@ pub struct RecordArgs {
     /// Output recording: FILE.mcap for MCAP (raw wire channels and
     /// Foxglove channels), any other name for vref's own bincode frames
     /// with timestamps (.vrec).
-    #[arg(long, value_name = "FILE")]
-    pub out: PathBuf,
+    #[arg(long, value_name = "FILE", required_unless_present = "ros2")]
+    pub out: Option<PathBuf>,
+    /// Instead of --out: record vref-ros2's outputs as ROS 2 messages
+    /// into FILE.mcap (MCAP profile ros2, ros2msg schemas, CDR messages:
+    /// what `ros2 bag play` and Foxglove read): the MarkerArray, the
+    /// referenced object's PointStamped and the headset pose's PoseStamped,
+    /// on the [ros2] topics, made from the matcher's snapshots, decisions
+    /// and latest-gesture answers (docs/ros2.md). No DDS is started.
+    #[arg(long, value_name = "FILE.mcap", conflicts_with_all = ["out", "images"])]
+    pub ros2: Option<PathBuf>,
     /// How long to record, e.g. 10s, 500ms, 2m.
     #[arg(long, value_name = "D", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,
-    /// MCAP only: latest-gesture queries per second whose answers are
-    /// recorded on /vref/answer (0: none, the recorder only subscribes).
-    #[arg(long, value_name = "HZ", default_value_t = 0.0, value_parser = rate_or_zero)]
-    pub answer_rate: f64,
+    /// MCAP and --ros2 only: latest-gesture queries per second whose
+    /// answers are recorded, on /vref/answer (MCAP; default 0: none, the
+    /// recorder only subscribes) or as referenced objects (--ros2; default
+    /// [ros2] answer_rate_hz).
+    #[arg(long, value_name = "HZ", value_parser = rate_or_zero)]
+    pub answer_rate: Option<f64>,
     /// MCAP only: also record the cameras' images, as `vref view --images`.
     #[arg(long, value_name = "bop:DIR", value_parser = images_source)]
     pub images: Option<PathBuf>,
