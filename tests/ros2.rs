@@ -2,8 +2,8 @@
 //! rosbag2 files in and out, written and read by the Python `rosbags`
 //! package (pure Python, no ROS install, independent of vref), the
 //! feeds on `--source rosbag:FILE.mcap`, the refusals of files that
-//! cannot be a camera, and `vref record --ros2` read back by rosbags and
-//! rclpy. tools/test.sh
+//! cannot be a camera, `vref record --ros2` read back by rosbags and
+//! rclpy, and `vref bench ros2` against rclpy nodes. tools/test.sh
 //! installs rosbags and rclpy in target/ros2-venv and names that python in
 //! `VREF_ROS2_PYTHON`. Every wait on another process is bounded.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
@@ -323,3 +323,38 @@ fn record_ros2_writes_a_bag_that_rosbags_and_rclpy_read() {
     }
 }
 
+/// `vref bench ros2` for a few seconds: it runs (in its own namespace),
+/// its JSON line has the documented fields, and frames went through.
+/// No timing is asserted.
+#[test]
+fn bench_ros2_reports_latency_beside_the_dds_floor() {
+    let frame = repo_root().join("../shared/data/osd/learn/learn3");
+    let python = python();
+    let run = support::vref(
+        &[
+            "bench",
+            "ros2",
+            "--seconds",
+            "3",
+            "--json",
+            "--frame",
+            frame.to_str().unwrap(),
+            "--python",
+            &python,
+        ],
+        // Hang guard: warm-up is bounded by the peer at 60 s.
+        Duration::from_secs(300),
+    );
+    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
+    let lines = support::json_lines(&run.stdout);
+    assert_eq!(lines.len(), 1, "{}", run.stdout);
+    let r = &lines[0];
+    println!("{r}");
+    let frames = r["frames"].as_u64().unwrap();
+    assert!(frames > 0, "{r}");
+    for field in ["p50_ms", "p99_ms", "floor_p50_ms", "floor_p99_ms"] {
+        assert!(r[field].as_f64().is_some_and(|v| v >= 0.0), "{field}: {r}");
+    }
+    assert!(r["dropped"].as_u64().unwrap() < frames, "{r}");
+    assert!(r["rss_end_kb"].as_u64().unwrap() > 0, "{r}");
+}
