@@ -480,3 +480,171 @@ impl vref_feed::BagReader for FeedBags {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+    use super::*;
+    use crate::cdr::to_cdr;
+
+    /// One message per channel: (topic, schema name, message encoding,
+    /// data).
+    fn write(path: &Path, channels: &[(&str, &str, &str, Vec<u8>)]) {
+        let file = std::fs::File::create(path).unwrap();
+        let mut w = mcap::WriteOptions::new()
+            .profile("ros2")
+            .create(std::io::BufWriter::new(file))
+            .unwrap();
+        for (k, (topic, schema, encoding, data)) in channels.iter().enumerate() {
+            let s = w.add_schema(schema, "ros2msg", b"").unwrap();
+            let c = w.add_channel(s, topic, encoding, &BTreeMap::new()).unwrap();
+            w.write_to_known_channel(
+                &mcap::records::MessageHeader {
+                    channel_id: c,
+                    sequence: k as u32,
+                    log_time: k as u64,
+                    publish_time: k as u64,
+                },
+                data,
+            )
+            .unwrap();
+        }
+        w.finish().unwrap();
+    }
+
+    fn read(path: &Path) -> Result<Bag, BagError> {
+        let settings = BagSettings {
+            topics: BagTopics {
+                colour: "/c".to_owned(),
+                depth: "/d".to_owned(),
+                camera_info: "/i".to_owned(),
+                labels: None,
+            },
+            max: MaxSize {
+                width: 4096,
+                height: 4096,
+            },
+            tolerance_ns: 0,
+        };
+        let config = Config::default();
+        let mut perception = Perception::new(
+            config.perception.robot(),
+            config.segmentation,
+            config.scene.capacity,
+        );
+        read_with(path, &settings, &mut perception)
+    }
+
+    fn info() -> Vec<u8> {
+        to_cdr(&msg::CameraInfo {
+            k: [500.0, 0.0, 1.0, 0.0, 500.0, 1.0, 0.0, 0.0, 1.0],
+            width: 2,
+            height: 2,
+            ..msg::CameraInfo::default()
+        })
+        .unwrap()
+    }
+
+    fn image(encoding: &str, bytes_per_pixel: u32) -> Vec<u8> {
+        to_cdr(&msg::Image {
+            header: msg::Header {
+                stamp: msg::Time { sec: 1, nanosec: 0 },
+                frame_id: String::new(),
+            },
+            width: 2,
+            height: 2,
+            step: 2 * bytes_per_pixel,
+            encoding: encoding.to_owned(),
+            data: vec![0; 4 * bytes_per_pixel as usize],
+            ..msg::Image::default()
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn files_that_are_not_a_camera_give_their_reason() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("b.mcap");
+
+        assert_eq!(read(&p).unwrap_err().reason(), "open");
+        std::fs::write(&p, b"SQLite format 3\0").unwrap();
+        assert_eq!(read(&p).unwrap_err().reason(), "not_mcap");
+
+        write(&p, &[("/c", IMAGE, "cdr", image("rgb8", 3))]);
+        let e = read(&p).unwrap_err();
+        assert_eq!(e.reason(), "topic_missing");
+        let text = e.to_string();
+        assert!(
+            text.contains("topic /d (depth)") && text.contains("/c (sensor_msgs/msg/Image)"),
+            "{text}"
+        );
+
+        write(
+            &p,
+            &[
+                ("/c", IMAGE, "cdr", image("rgb8", 3)),
+                ("/d", "std_msgs/msg/String", "cdr", image("16UC1", 2)),
+            ],
+        );
+        let e = read(&p).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("\"std_msgs/msg/String\", not sensor_msgs/msg/Image"),
+            "{e}"
+        );
+
+        write(&p, &[("/i", CAMERA_INFO, "cdr", vec![0, 1, 0, 0, 7])]);
+        assert_eq!(read(&p).unwrap_err().reason(), "cdr");
+
+        write(
+            &p,
+            &[
+                ("/i", CAMERA_INFO, "cdr", info()),
+                ("/c", IMAGE, "cdr", image("rgba8", 4)),
+                ("/d", IMAGE, "cdr", image("16UC1", 2)),
+            ],
+        );
+        let e = read(&p).unwrap_err();
+        assert_eq!(e.reason(), "encoding");
+        assert!(
+            error_text(&e).contains("message 0 on /c: encoding \"rgba8\""),
+            "{}",
+            error_text(&e)
+        );
+    }
+
+    #[test]
+    fn frames_without_objects_are_counted_and_an_empty_result_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("b.mcap");
+        // A 2x2 frame of no depth: paired, then nothing to measure.
+        write(
+            &p,
+            &[
+                ("/i", CAMERA_INFO, "cdr", info()),
+                ("/c", IMAGE, "cdr", image("rgb8", 3)),
+                ("/d", IMAGE, "cdr", image("16UC1", 2)),
+            ],
+        );
+        match read(&p).unwrap_err() {
+            BagError::NoObjects {
+                frames, skipped, ..
+            } => {
+                assert_eq!(frames, 1);
+                assert!(!skipped.is_empty());
+            }
+            other => panic!("{other}"),
+        }
+    }
+
+    fn error_text(e: &dyn std::error::Error) -> String {
+        let mut text = e.to_string();
+        let mut source = e.source();
+        while let Some(s) = source {
+            text.push_str(": ");
+            text.push_str(&s.to_string());
+            source = s.source();
+        }
+        text
+    }
+}

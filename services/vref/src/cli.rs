@@ -65,7 +65,8 @@ pub enum Command {
     /// rays) into a file that a feed can replay (--source recording:FILE).
     /// FILE.mcap: an MCAP file with the raw wire messages on their own
     /// channels beside the Foxglove channels of `vref view`; any other
-    /// name: vref's own bincode frames.
+    /// name: vref's own bincode frames. Or, with --ros2 FILE.mcap,
+    /// vref-ros2's outputs as ROS 2 messages (a rosbag2 file).
     Record(RecordArgs),
     /// See what the matcher decides, in Foxglove: both views' objects
     /// coloured by the matcher's decision, the pairs, the pointing ray and
