@@ -138,6 +138,29 @@ fn feeds_on_bags_written_by_rosbags_publish_objects_that_the_matcher_matches() {
     }
 }
 
+/// Without a labels topic vref's segmenter labels each frame of the bag,
+/// as vref-ros2 does with live topics.
+#[test]
+fn a_bag_without_labels_is_segmented() {
+    let kinect = CONFIG.split("[ros2]").next().unwrap();
+    let mut h = Harness::new("bagseg", kinect);
+    let scene = h.dir.path().join("scene");
+    write_scene(&scene, "learn3");
+    let bag = write_bag(&scene, &h.dir.path().join("bag"), &["--frames", "3"]);
+    let source = format!("rosbag:{}", bag.display());
+    h.start("perception", "vref-perception-feed", &["--source", &source]);
+    let log = eventually(Duration::from_secs(60), "the feed publishing", || {
+        let log = h.log("perception");
+        log.contains("publishing").then_some(log)
+    });
+    assert!(h.running("perception"), "{log}");
+    assert!(
+        log.contains("3 frames with objects of 3 paired")
+            && log.contains("messages colour 3, depth 3;"),
+        "{log}"
+    );
+}
+
 /// Starts the perception feed on `source` and expects it to refuse it
 /// (exit code 2) with every one of `expected` in its log.
 fn refused(h: &mut Harness, name: &str, source: &str, expected: &[&str]) {
