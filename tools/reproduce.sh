@@ -139,6 +139,13 @@ printf '[scene]\ncapacity = 87\n\n[matcher]\nmethod = "paper"\ntier = "exact"\n'
 "$vref" bench query --objects 32 --duration "$bench_s" --with-viewer --json > "$out/bench-query-32-viewer.json"
 step "remote round trip (vref bench remote, $bench_s)"
 "$vref" bench remote --duration "$bench_s" --json > "$out/bench-remote.json"
+step "ROS 2 latency (vref bench ros2, $bench_s; needs root and target/ros2-venv from tools/test.sh)"
+if [ -x target/ros2-venv/bin/python ]; then
+  "$vref" bench ros2 --seconds "${bench_s%s}" --json --python target/ros2-venv/bin/python \
+    > "$out/bench-ros2.json"
+else
+  echo "reproduce.sh: target/ros2-venv is missing (bash tools/test.sh makes it): vref bench ros2 skipped" >&2
+fi
 
 step "Python client round trip"
 venv=${VREF_VENV:-target/python-venv}

@@ -25,14 +25,17 @@ fi
 # packages from the official ROS 2 (Kilted) wheels on PyPI, no ROS install
 # (about 270 MB, in a venv of its own; VREF_ROS2_VENV puts it elsewhere).
 # The test runs DDS inside a network namespace with loopback only, which
-# needs root (unshare --net) and iproute2.
+# needs root (unshare --net) and iproute2. The same venv holds rosbags
+# (pure Python), which writes the rosbag2 files tests/rosbag.rs feeds to
+# vref and reads back what `vref record --ros2` writes.
 ros2_venv="${VREF_ROS2_VENV:-target/ros2-venv}"
 if [ ! -x "$ros2_venv/bin/python" ]; then
   "$python" -m venv "$ros2_venv"
 fi
 "$ros2_venv/bin/python" -m pip install --quiet --disable-pip-version-check \
   'ros-rclpy[fastrtps]==9.1.2' ros-sensor-msgs==5.5.1 ros-geometry-msgs==5.5.1 \
-  ros-visualization-msgs==5.5.1 ros-std-srvs==5.5.1 numpy==2.4.6
+  ros-visualization-msgs==5.5.1 ros-std-srvs==5.5.1 numpy==2.4.6 \
+  rosbags==0.11.9
 
 # The system tests start the service executables from target/debug; `cargo
 # test` builds a bin-only package's test harness, not its executable

@@ -51,7 +51,8 @@ pub struct Ros2Settings {
     pub headset_pose_topic: String,
     pub latest_gesture_service: String,
     /// Most MarkerArray messages per second (one per new decision or
-    /// snapshot, at most this often).
+    /// snapshot, at most this often). Twice a camera's rate: a cap at the
+    /// camera's own rate delays and skips frames (docs/ros2.md).
     pub marker_rate_hz: f64,
     /// How often the latest gesture is asked for, to publish each new ok
     /// answer on `referenced_object_topic`.
@@ -85,7 +86,7 @@ impl Default for Ros2Settings {
             referenced_object_topic: "/vref/referenced_object".to_owned(),
             headset_pose_topic: "/vref/headset_pose".to_owned(),
             latest_gesture_service: "/vref/latest_gesture".to_owned(),
-            marker_rate_hz: 30.0,
+            marker_rate_hz: 60.0,
             answer_rate_hz: 10.0,
             query_timeout_ms: 500,
         }

@@ -22,7 +22,10 @@ pub struct FeedArgs {
     /// `rgbd:DIR` (a folder of RGB-D frame folders, or one: rgb.png,
     /// depth.png, optional masks.png, the nearest camera.json; each frame
     /// for --hold, in natural order, segmented where it has no masks; no
-    /// pointing rays; docs/perception.md).
+    /// pointing rays; docs/perception.md) or `rosbag:FILE.mcap` (a rosbag2
+    /// MCAP file with the [ros2] camera topics, measured as vref-ros2
+    /// would, replayed with the bag's timing, looping; no pointing rays;
+    /// docs/ros2.md).
     #[arg(long, value_name = "SOURCE", default_value = "synthetic")]
     pub source: SourceSpec,
     /// Snapshots per second (default: [feeds] snapshot_rate_hz).
@@ -79,6 +82,7 @@ pub enum SourceSpec {
     Recording(PathBuf),
     Bop(PathBuf),
     Rgbd(PathBuf),
+    Rosbag(PathBuf),
 }
 
 impl FromStr for SourceSpec {
@@ -99,6 +103,7 @@ impl FromStr for SourceSpec {
             "recording" => Ok(SourceSpec::Recording(PathBuf::from(file))),
             "bop" => Ok(SourceSpec::Bop(PathBuf::from(file))),
             "rgbd" => Ok(SourceSpec::Rgbd(PathBuf::from(file))),
+            "rosbag" => Ok(SourceSpec::Rosbag(PathBuf::from(file))),
             _ => Err(SetupError::UnknownSource(s.to_owned())),
         }
     }

@@ -7,7 +7,7 @@ use vref_wire::ipc::IpcError;
 #[derive(Debug, thiserror::Error)]
 pub enum SetupError {
     #[error(
-        "unknown source {0:?}: expected synthetic, dataset:FILE, recording:FILE, bop:DIR or rgbd:DIR"
+        "unknown source {0:?}: expected synthetic, dataset:FILE, recording:FILE, bop:DIR, rgbd:DIR or rosbag:FILE.mcap"
     )]
     UnknownSource(String),
     #[error("source {0:?} names no file")]
@@ -71,6 +71,14 @@ pub enum SetupError {
         /// Where the file stopped, if it was cut short.
         cut: Option<vref_record::Cut>,
     },
+    #[error("reading the rosbag")]
+    Rosbag {
+        path: PathBuf,
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
+    #[error("rosbag {path}: this program does not read rosbag2 files (the feed services do)")]
+    NoBagReader { path: PathBuf },
     #[error("{origin}")]
     Entry {
         origin: String,

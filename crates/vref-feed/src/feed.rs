@@ -1,8 +1,11 @@
 //! A feed from its command line and configuration to its publications.
 
+use std::path::Path;
 use std::time::Duration;
 
 use vref_config::Config;
+use vref_scene::Side;
+use vref_wire::ObjectEntry;
 
 use vref_wire::ipc::{
     GesturePublisher, IpcSettings, Node, SnapshotPublisher, create_node, nap, now_ns,
@@ -39,6 +42,28 @@ enum Source {
     Replay(Replay),
 }
 
+/// Reads the sources this crate cannot read itself: rosbag2 files, which
+/// vref-ros2 decodes (it depends on this crate, so the feed binaries hand
+/// its reader to [`Feed::prepare_with`]).
+pub trait BagReader {
+    /// `side`'s measured frames of the bag at `path`, each at its stamp
+    /// (nanoseconds, the bag's clock; any order), and what was read, in
+    /// words.
+    fn read(
+        &self,
+        path: &Path,
+        side: Side,
+        config: &Config,
+    ) -> Result<MeasuredBag, Box<dyn std::error::Error + Send + Sync>>;
+}
+
+/// A bag's frames, measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredBag {
+    pub frames: Vec<(u64, Vec<ObjectEntry>)>,
+    pub description: String,
+}
+
 /// What a feed published before it stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Published {
@@ -48,8 +73,19 @@ pub struct Published {
 
 impl Feed {
     /// Checks the options and the configuration and loads the source; no
-    /// shared memory is touched yet.
+    /// shared memory is touched yet. A rosbag source needs
+    /// [`Feed::prepare_with`].
     pub fn prepare(role: Role, args: &FeedArgs, config: &Config) -> Result<Self, SetupError> {
+        Self::prepare_with(role, args, config, None)
+    }
+
+    /// [`Feed::prepare`], with a reader for rosbag sources.
+    pub fn prepare_with(
+        role: Role,
+        args: &FeedArgs,
+        config: &Config,
+        bags: Option<&dyn BagReader>,
+    ) -> Result<Self, SetupError> {
         let feeds = &config.feeds;
         let rate_hz = positive(
             if args.rate.is_some() {
@@ -120,6 +156,24 @@ impl Feed {
                 );
                 let source = DatasetSource::from_views(views, hold_s, args.epoch_ns, rate_hz);
                 (Source::Dataset(source), description)
+            }
+            SourceSpec::Rosbag(path) => {
+                let reader = bags.ok_or_else(|| SetupError::NoBagReader { path: path.clone() })?;
+                let bag = reader
+                    .read(path, side, config)
+                    .map_err(|source| SetupError::Rosbag {
+                        path: path.clone(),
+                        source,
+                    })?;
+                let gap_ns = (1e9 / rate_hz).round() as u64;
+                let replay = Replay::from_snapshots(bag.frames, gap_ns);
+                let description = format!(
+                    "rosbag {} ({}; {:.1} s per pass)",
+                    path.display(),
+                    bag.description,
+                    replay.span_s()
+                );
+                (Source::Replay(replay), description)
             }
             SourceSpec::Recording(path) => {
                 let gap_ns = (1e9 / rate_hz).round() as u64;

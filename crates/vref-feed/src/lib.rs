@@ -19,6 +19,8 @@
 //! - **rgbd**: a folder of RGB-D frames, each measured at start-up (the
 //!   segmenter makes the masks of a frame that has none), shown in turn
 //!   like a dataset; no pointing rays.
+//! - **rosbag**: a rosbag2 MCAP file's camera topics, measured at start-up
+//!   by a [`BagReader`] (vref-ros2's), replayed like a recording.
 //!
 //! [`Feed::prepare`] checks everything that can be wrong before shared
 //! memory is touched ([`SetupError`]); [`Feed::run`] publishes until a
@@ -41,9 +43,9 @@ mod ticks;
 pub use args::{FeedArgs, SourceSpec};
 pub use bop::{BopGesture, BopImageSource, BopSceneSource, BopWorld};
 pub use error::{EntryError, RunError, SetupError};
-pub use feed::{Feed, Published};
+pub use feed::{BagReader, Feed, MeasuredBag, Published};
 pub use publication::{Due, Publication, Ray, Target};
 pub use rgbd::RgbdSummary;
 pub use role::Role;
-pub use service::{FeedError, run_feed};
+pub use service::{FeedError, run_feed, run_feed_with};
 pub use synthetic::{synthetic_world, with_room_for};

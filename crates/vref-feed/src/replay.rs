@@ -91,6 +91,32 @@ impl Replay {
                 },
             });
         }
+        Ok(Self::from_items(frames, recorded.cut, fallback_gap_ns))
+    }
+
+    /// Snapshots measured elsewhere (a rosbag2 file's frames), each at its
+    /// own stamp, with no up vector.
+    pub(crate) fn from_snapshots(
+        snapshots: Vec<(u64, Vec<ObjectEntry>)>,
+        fallback_gap_ns: u64,
+    ) -> Self {
+        let items = snapshots
+            .into_iter()
+            .map(|(ts, entries)| {
+                (
+                    ts,
+                    Item::Snapshot {
+                        feature_dim: vref_perception::FEATURE_DIM,
+                        entries,
+                        up: None,
+                    },
+                )
+            })
+            .collect();
+        Self::from_items(items, None, fallback_gap_ns)
+    }
+
+    fn from_items(mut frames: Vec<(u64, Item)>, cut: Option<Cut>, fallback_gap_ns: u64) -> Self {
         // Feeds of a recording were separate processes: their frames are
         // in arrival order, not strictly by timestamp.
         frames.sort_by_key(|(ts, _)| *ts);
@@ -100,19 +126,19 @@ impl Replay {
             .map(|(ts, item)| (ts.saturating_sub(first), item))
             .collect();
         let last = items.last().map_or(0, |(offset, _)| *offset);
-        let gaps = items.len() as u64 - 1;
+        let gaps = (items.len() as u64).saturating_sub(1);
         let mean_gap = if gaps > 0 && last > 0 {
             last / gaps
         } else {
             fallback_gap_ns
         };
-        Ok(Self {
+        Self {
             items,
             span_ns: last + mean_gap.max(1),
             anchor_ns: None,
             next: 0,
-            cut: recorded.cut,
-        })
+            cut,
+        }
     }
 
     /// Where the file was cut short, if it was.

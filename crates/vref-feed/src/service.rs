@@ -4,7 +4,7 @@
 use vref_config::{Config, ConfigError};
 use vref_wire::ipc::ServiceNames;
 
-use crate::{Feed, FeedArgs, Published, Role, RunError, SetupError};
+use crate::{BagReader, Feed, FeedArgs, Published, Role, RunError, SetupError};
 
 /// Why a feed could not start or stopped early.
 #[derive(Debug, thiserror::Error)]
@@ -28,9 +28,18 @@ impl FeedError {
 /// Loads the configuration, prepares the feed of `role`, logs what it
 /// publishes and where, and publishes until SIGINT or SIGTERM.
 pub fn run_feed(role: Role, args: &FeedArgs) -> Result<Published, FeedError> {
+    run_feed_with(role, args, None)
+}
+
+/// [`run_feed`], with a reader for rosbag sources.
+pub fn run_feed_with(
+    role: Role,
+    args: &FeedArgs,
+    bags: Option<&dyn BagReader>,
+) -> Result<Published, FeedError> {
     let (config, source) = Config::load(args.config.as_deref()).map_err(FeedError::Config)?;
     tracing::info!(?source, "configuration");
-    let mut feed = Feed::prepare(role, args, &config).map_err(FeedError::Setup)?;
+    let mut feed = Feed::prepare_with(role, args, &config, bags).map_err(FeedError::Setup)?;
     let ipc = feed.ipc();
     let names = ServiceNames::new(&ipc.namespace);
     tracing::info!(

@@ -5,6 +5,7 @@
 //!   iceoryx2 root path and prefix of their own, each logging to a file;
 //!   stopped with SIGTERM, killed after a bound.
 //! - [`ready`]: the one readiness wait, bounded by a timeout.
+//! - [`netns`]: the loopback-only network namespace DDS runs in.
 //! - [`echo`]: the echo server of `vref bench query` (the bare iceoryx2
 //!   round trip).
 //! - [`demo`], [`soak`], [`bench_query`], [`bench_remote`],
@@ -25,6 +26,7 @@ pub mod bench_remote;
 pub mod demo;
 pub mod echo;
 pub mod launch;
+pub mod netns;
 pub mod ready;
 pub mod samples;
 pub mod soak;

@@ -10,14 +10,20 @@
 //!   vref's segmenter).
 //! - [`markers`], [`answer`]: the decision as a MarkerArray, the headset
 //!   pose, the answer as a PointStamped and as the Trigger reply. Pure.
+//! - [`cdr`]: CDR as rosbag2 stores it; [`bag`]: a rosbag2 MCAP file as a
+//!   camera, through the same decoding, pairing and perception.
+//! - [`record`]: the outputs into an MCAP file ROS 2 tools read.
 //! - [`run`]: the vref-ros2 process's loop.
 
 pub mod answer;
+pub mod bag;
 mod bridge;
+pub mod cdr;
 pub mod decode;
 pub mod markers;
 pub mod msg;
 pub mod pairing;
 pub mod perceive;
+pub mod record;
 
 pub use bridge::{BridgeError, Counts, run};

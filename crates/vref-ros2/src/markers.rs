@@ -119,13 +119,20 @@ pub fn markers(scene: &Scene<'_>, frames: Frames<'_>, stamp: Time) -> MarkerArra
     let entries: &[DecisionEntry] = scene.decision.map_or(&[], |d| &d.entries);
     let motion = scene.decision.and_then(motion);
     if let Some(robot) = scene.robot {
+        // The robot's objects as of the camera frame they were seen in:
+        // its stamp (the colour image's), for TF and for telling frames
+        // apart (`vref bench ros2` times each frame's markers by it).
+        let seen = Header {
+            stamp: Time::from_ns(robot.timestamp_ns),
+            frame_id: frames.robot.to_owned(),
+        };
         for (k, (id, p)) in robot.objects.iter().enumerate() {
             let outcome = entries
                 .iter()
                 .find(|e| e.robot_track_id == *id && e.flags & DecisionEntry::FLAG_PARTNER != 0)
                 .map_or(Outcome::Undecided, outcome_of);
             out.push(sphere(
-                &robot_header,
+                &seen,
                 NS_ROBOT,
                 k as i32,
                 *p,
@@ -294,6 +301,31 @@ mod tests {
         assert_eq!(human_m.pose.position, Point::from([0.0, 0.0, 1.0]));
         let pairs = a.markers.iter().find(|m| m.ns == NS_PAIRS).unwrap();
         assert_eq!(pairs.points.len(), 2);
+    }
+
+    #[test]
+    fn robot_objects_carry_their_camera_frames_stamp_and_the_rest_the_arrays() {
+        let robot = View {
+            timestamp_ns: 1_700_000_000_123_456_789,
+            ..view(&[(10, [0.0, 0.0, 1.0])])
+        };
+        let scene = Scene {
+            robot: Some(&robot),
+            human: None,
+            decision: None,
+            answer: None,
+        };
+        let made = Time { sec: 5, nanosec: 6 };
+        let a = markers(&scene, FRAMES, made);
+        assert_eq!(a.markers[0].header.stamp, made);
+        let robot_m = a.markers.iter().find(|m| m.ns == NS_ROBOT).unwrap();
+        assert_eq!(
+            robot_m.header.stamp,
+            Time {
+                sec: 1_700_000_000,
+                nanosec: 123_456_789
+            }
+        );
     }
 
     #[test]

@@ -7,7 +7,7 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use vref_feed::{FeedArgs, Role, run_feed};
+use vref_feed::{FeedArgs, Role, run_feed_with};
 
 /// The vref gesture feed: publishes what the person's AR headset sees as
 /// iceoryx2 snapshots, and where the person points. Logs go to stderr
@@ -26,7 +26,7 @@ struct Args {
 fn main() -> ExitCode {
     let args = Args::parse();
     vref_logging::init("info");
-    match run_feed(Role::Gesture, &args.feed) {
+    match run_feed_with(Role::Gesture, &args.feed, Some(&vref_ros2::bag::FeedBags)) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
             let code = if e.is_bad_input() { 2 } else { 1 };

@@ -7,7 +7,7 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use vref_feed::{FeedArgs, Role, run_feed};
+use vref_feed::{FeedArgs, Role, run_feed_with};
 
 /// The vref perception feed: publishes what the robot's camera sees as
 /// iceoryx2 snapshots. Logs go to stderr (RUST_LOG, default info).
@@ -25,7 +25,11 @@ struct Args {
 fn main() -> ExitCode {
     let args = Args::parse();
     vref_logging::init("info");
-    match run_feed(Role::Perception, &args.feed) {
+    match run_feed_with(
+        Role::Perception,
+        &args.feed,
+        Some(&vref_ros2::bag::FeedBags),
+    ) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
             let code = if e.is_bad_input() { 2 } else { 1 };

@@ -147,16 +147,7 @@ fn run_peer(scene: &str, extra: &str, peer_args: &[&str]) {
     // A network namespace with loopback only, and multicast routed on it
     // (DDS discovery is multicast); the peer starts vref-ros2 inside it.
     let mut child = Guard(
-        Command::new("unshare")
-            .args([
-                "--net",
-                "--",
-                "sh",
-                "-c",
-                "ip link set lo up && ip route add 224.0.0.0/4 dev lo && exec \"$@\"",
-                "sh",
-            ])
-            .arg(&python)
+        vref_harness::netns::in_loopback_namespace(Path::new(&python))
             .arg(&peer)
             .arg("--vref-ros2")
             .arg(&bin)

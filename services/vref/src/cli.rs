@@ -65,7 +65,8 @@ pub enum Command {
     /// rays) into a file that a feed can replay (--source recording:FILE).
     /// FILE.mcap: an MCAP file with the raw wire messages on their own
     /// channels beside the Foxglove channels of `vref view`; any other
-    /// name: vref's own bincode frames.
+    /// name: vref's own bincode frames. Or, with --ros2 FILE.mcap,
+    /// vref-ros2's outputs as ROS 2 messages (a rosbag2 file).
     Record(RecordArgs),
     /// See what the matcher decides, in Foxglove: both views' objects
     /// coloured by the matcher's decision, the pairs, the pointing ray and
@@ -444,15 +445,25 @@ pub struct RecordArgs {
     /// Output recording: FILE.mcap for MCAP (raw wire channels and
     /// Foxglove channels), any other name for vref's own bincode frames
     /// with timestamps (.vrec).
-    #[arg(long, value_name = "FILE")]
-    pub out: PathBuf,
+    #[arg(long, value_name = "FILE", required_unless_present = "ros2")]
+    pub out: Option<PathBuf>,
+    /// Instead of --out: record vref-ros2's outputs as ROS 2 messages
+    /// into FILE.mcap (MCAP profile ros2, ros2msg schemas, CDR messages:
+    /// what `ros2 bag play` and Foxglove read): the MarkerArray, the
+    /// referenced object's PointStamped and the headset pose's PoseStamped,
+    /// on the [ros2] topics, made from the matcher's snapshots, decisions
+    /// and latest-gesture answers (docs/ros2.md). No DDS is started.
+    #[arg(long, value_name = "FILE.mcap", conflicts_with_all = ["out", "images"])]
+    pub ros2: Option<PathBuf>,
     /// How long to record, e.g. 10s, 500ms, 2m.
     #[arg(long, value_name = "D", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,
-    /// MCAP only: latest-gesture queries per second whose answers are
-    /// recorded on /vref/answer (0: none, the recorder only subscribes).
-    #[arg(long, value_name = "HZ", default_value_t = 0.0, value_parser = rate_or_zero)]
-    pub answer_rate: f64,
+    /// MCAP and --ros2 only: latest-gesture queries per second whose
+    /// answers are recorded, on /vref/answer (MCAP; default 0: none, the
+    /// recorder only subscribes) or as referenced objects (--ros2; default
+    /// [ros2] answer_rate_hz).
+    #[arg(long, value_name = "HZ", value_parser = rate_or_zero)]
+    pub answer_rate: Option<f64>,
     /// MCAP only: also record the cameras' images, as `vref view --images`.
     #[arg(long, value_name = "bop:DIR", value_parser = images_source)]
     pub images: Option<PathBuf>,
@@ -685,6 +696,17 @@ pub enum BenchCommand {
     /// scenes, overall and per group (OSD learn scene kinds, and the
     /// held-aside scenes whose number is 0 mod 5 against the rest).
     Segment(BenchSegmentArgs),
+    /// Capture stamp to MarkerArray arrival through a real ROS 2 peer: an
+    /// rclpy node publishes one RGB-D frame (--frame) at --rate as a camera
+    /// driver would (rgb8, 16UC1, CameraInfo, a fresh stamp per frame) to
+    /// vref-ros2 and a matcher started here, and times each frame's
+    /// markers; a trivial rclpy relay receiving the same images gives the
+    /// bare DDS floor in the same run. Runs itself in a network namespace
+    /// with loopback only (unshare --net: root, util-linux, iproute2).
+    /// Prints frames, p50/p90/p99/max (nearest rank), dropped frames,
+    /// the floor's, and vref-ros2's resident memory when warm and at the
+    /// end (docs/ros2.md).
+    Ros2(BenchRos2Args),
     /// The echo server of `vref bench query` (started by it): answers
     /// every reference query at once, under the namespace
     /// `<[ipc] namespace>/bench-echo`.
@@ -853,6 +875,42 @@ pub struct BenchPerceptionArgs {
     /// Configuration file ([perception] settings).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchRos2Args {
+    /// How long to measure once vref-ros2 answers, in seconds (60 for the
+    /// memory and drop figures).
+    #[arg(long, value_name = "S", default_value_t = 10.0, value_parser = positive_rate)]
+    pub seconds: f64,
+    /// Frames per second the peer publishes.
+    #[arg(long, value_name = "HZ", default_value_t = 30.0, value_parser = positive_rate)]
+    pub rate: f64,
+    /// The RGB-D frame folder published (rgb.png, depth.png, the nearest
+    /// camera.json), segmented by vref-ros2 each time.
+    #[arg(
+        long,
+        value_name = "DIR",
+        default_value = "../shared/data/osd/learn/learn3"
+    )]
+    pub frame: PathBuf,
+    /// Python with rclpy (default: $VREF_ROS2_PYTHON; tools/test.sh
+    /// installs one in target/ros2-venv).
+    #[arg(long, value_name = "FILE")]
+    pub python: Option<PathBuf>,
+    /// Print one JSON object: frames, p50_ms, p99_ms, dropped,
+    /// floor_p50_ms, floor_p99_ms, then p90_ms, max_ms, floor_p90_ms,
+    /// floor_max_ms, floor_dropped, rate_hz, seconds, width, height,
+    /// publisher_late, rss_start_kb, rss_end_kb, rss_every_10s_kb.
+    #[arg(long)]
+    pub json: bool,
+    /// Configuration file ([ros2], [segmentation], [perception]; [ipc] is
+    /// replaced by an isolated one).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Set when the command has re-run itself in its namespace.
+    #[arg(long, hide = true)]
+    pub inside_namespace: bool,
 }
 
 #[derive(Debug, Args)]

@@ -11,6 +11,7 @@ mod bench_perception;
 mod bench_plot;
 mod bench_query;
 mod bench_remote;
+mod bench_ros2;
 mod bench_segment;
 mod cli;
 mod config_cmd;
@@ -71,6 +72,7 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Plot(args)) => bench_plot::plot(&args),
         Command::Bench(BenchCommand::Perception(args)) => bench_perception::perception(&args),
         Command::Bench(BenchCommand::Segment(args)) => bench_segment::segment(&args),
+        Command::Bench(BenchCommand::Ros2(args)) => bench_ros2::ros2(&args),
         Command::Bench(BenchCommand::Client(args)) => bench_client::run(&args),
         Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
         Command::WireLayout(args) => wire_layout::run(&args),

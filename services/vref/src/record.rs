@@ -1,5 +1,6 @@
 use std::fs::File;
 use std::io::BufWriter;
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, anyhow};
@@ -18,21 +19,24 @@ const TICK: Duration = Duration::from_millis(100);
 
 pub fn run(args: &RecordArgs) -> Result<(), Failure> {
     let (config, _) = Config::load(args.config.as_deref()).bad_input()?;
-    let mcap = args
+    if let Some(path) = &args.ros2 {
+        return record_ros2(args, path, &config);
+    }
+    let out = args
         .out
+        .as_deref()
+        .ok_or_else(|| anyhow!("--out or --ros2 is needed"))
+        .bad_input()?;
+    let mcap = out
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
     if args.images.is_some() && !mcap {
         return Err(anyhow!("--images needs an MCAP file (--out FILE.mcap)")).bad_input();
     }
-    if args
-        .out
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("mcap"))
-    {
-        return record_mcap(args, &config);
+    if mcap {
+        return record_mcap(args, out, &config);
     }
-    let partial = args.out.with_extension("vrec.tmp");
+    let partial = out.with_extension("vrec.tmp");
     let file = File::create(&partial)
         .with_context(|| format!("creating {}", partial.display()))
         .bad_input()?;
@@ -42,13 +46,11 @@ pub fn run(args: &RecordArgs) -> Result<(), Failure> {
     let outcome = frames.and_then(|n| finished.map(|()| n));
     match outcome {
         Ok(frames) => {
-            std::fs::rename(&partial, &args.out)
-                .with_context(|| {
-                    format!("renaming {} to {}", partial.display(), args.out.display())
-                })
+            std::fs::rename(&partial, out)
+                .with_context(|| format!("renaming {} to {}", partial.display(), out.display()))
                 .runtime()?;
-            tracing::info!(frames, out = %args.out.display(), "recorded");
-            crate::stdout::print(&format!("{}: {frames} frames\n", args.out.display()))
+            tracing::info!(frames, out = %out.display(), "recorded");
+            crate::stdout::print(&format!("{}: {frames} frames\n", out.display()))
         }
         Err(e) => {
             std::fs::remove_file(&partial).ok();
@@ -59,8 +61,8 @@ pub fn run(args: &RecordArgs) -> Result<(), Failure> {
 
 /// An MCAP recording: `vref view`'s channels, the raw wire ones among
 /// them, written by vref-view with nothing served.
-fn record_mcap(args: &RecordArgs, config: &Config) -> Result<(), Failure> {
-    let partial = args.out.with_extension("mcap.tmp");
+fn record_mcap(args: &RecordArgs, out: &Path, config: &Config) -> Result<(), Failure> {
+    let partial = out.with_extension("mcap.tmp");
     let images = match &args.images {
         Some(dir) => Some(crate::view::load_images(config, dir)?),
         None => None,
@@ -70,26 +72,62 @@ fn record_mcap(args: &RecordArgs, config: &Config) -> Result<(), Failure> {
         mcap: Some(partial.clone()),
         duration: Some(args.duration),
         scene_rate_hz: 10.0,
-        answer_rate_hz: args.answer_rate,
+        answer_rate_hz: args.answer_rate.unwrap_or(0.0),
         images,
     };
     match vref_view::run(&config.ipc, &options, |_| {}) {
         Ok(counts) => {
-            std::fs::rename(&partial, &args.out)
-                .with_context(|| {
-                    format!("renaming {} to {}", partial.display(), args.out.display())
-                })
+            std::fs::rename(&partial, out)
+                .with_context(|| format!("renaming {} to {}", partial.display(), out.display()))
                 .runtime()?;
-            tracing::info!(messages = counts.total(), out = %args.out.display(), "recorded");
+            tracing::info!(messages = counts.total(), out = %out.display(), "recorded");
             crate::stdout::print(&format!(
                 "{}: {}\n",
-                args.out.display(),
+                out.display(),
                 crate::view::describe(&counts)
             ))
         }
         Err(e) => {
             std::fs::remove_file(&partial).ok();
             Err(crate::view::blame(e))
+        }
+    }
+}
+
+/// vref-ros2's outputs as ROS 2 messages in MCAP (vref_ros2::record).
+fn record_ros2(args: &RecordArgs, out: &Path, config: &Config) -> Result<(), Failure> {
+    if !out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mcap"))
+    {
+        return Err(anyhow!(
+            "--ros2 {}: the file must be named .mcap",
+            out.display()
+        ))
+        .bad_input();
+    }
+    let partial = out.with_extension("mcap.tmp");
+    let file = File::create(&partial)
+        .with_context(|| format!("creating {}", partial.display()))
+        .bad_input()?;
+    let rate = args.answer_rate.unwrap_or(config.ros2.answer_rate_hz);
+    match vref_ros2::record::record(config, BufWriter::new(file), args.duration, rate) {
+        Ok(counts) => {
+            std::fs::rename(&partial, out)
+                .with_context(|| format!("renaming {} to {}", partial.display(), out.display()))
+                .runtime()?;
+            tracing::info!(?counts, out = %out.display(), "recorded");
+            crate::stdout::print(&format!(
+                "{}: {} marker arrays, {} referenced objects, {} headset poses\n",
+                out.display(),
+                counts.marker_arrays,
+                counts.referenced,
+                counts.headset_poses
+            ))
+        }
+        Err(e) => {
+            std::fs::remove_file(&partial).ok();
+            Err(anyhow::Error::from(e)).runtime()
         }
     }
 }
