@@ -40,9 +40,10 @@ fn write_scene(dir: &Path, name: &str) {
     let scene = repo_root().join("../shared/data/osd/learn").join(name);
     assert!(scene.exists(), "OSD data not found at {}", scene.display());
     std::fs::create_dir_all(dir).unwrap();
-    let colour = vref_perception::load_colour(&scene.join("rgb.png")).unwrap();
-    let depth = vref_perception::load_depth(&scene.join("depth.png")).unwrap();
-    let labels = vref_perception::load_depth(&scene.join("label.png")).unwrap();
+    let limit = vref_perception::ImageLimit::default();
+    let colour = vref_perception::load_colour(&scene.join("rgb.png"), limit).unwrap();
+    let depth = vref_perception::load_depth(&scene.join("depth.png"), limit).unwrap();
+    let labels = vref_perception::load_depth(&scene.join("label.png"), limit).unwrap();
     let camera: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(repo_root().join("../shared/data/osd/camera.json")).unwrap(),
     )

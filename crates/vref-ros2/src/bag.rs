@@ -22,10 +22,11 @@ use vref_scene::Side;
 use vref_wire::ObjectEntry;
 
 use crate::cdr::{CdrError, from_cdr};
-use crate::decode::{self, DecodeError, MaxSize};
+use crate::decode::{self, DecodeError};
 use crate::msg;
 use crate::pairing::Pairer;
 use crate::perceive::Perception;
+use vref_perception::ImageLimit;
 
 const IMAGE: &str = "sensor_msgs/msg/Image";
 const CAMERA_INFO: &str = "sensor_msgs/msg/CameraInfo";
@@ -185,10 +186,7 @@ pub fn read_bag(path: &Path, side: Side, config: &Config) -> Result<Bag, BagErro
     let mut perception = Perception::new(front_end, config.segmentation, config.scene.capacity);
     let settings = BagSettings {
         topics: BagTopics::of(s, side),
-        max: MaxSize {
-            width: s.max_width,
-            height: s.max_height,
-        },
+        max: config.perception.image_limit(),
         tolerance_ns: (s.stamp_tolerance_ms * 1e6).round() as u64,
     };
     read_with(path, &settings, &mut perception)
@@ -198,7 +196,7 @@ pub fn read_bag(path: &Path, side: Side, config: &Config) -> Result<Bag, BagErro
 #[derive(Debug, Clone)]
 pub struct BagSettings {
     pub topics: BagTopics,
-    pub max: MaxSize,
+    pub max: ImageLimit,
     pub tolerance_ns: u64,
 }
 
@@ -520,10 +518,7 @@ mod tests {
                 camera_info: "/i".to_owned(),
                 labels: None,
             },
-            max: MaxSize {
-                width: 4096,
-                height: 4096,
-            },
+            max: Config::default().perception.image_limit(),
             tolerance_ns: 0,
         };
         let config = Config::default();

@@ -99,7 +99,7 @@ pub fn ros2(args: &BenchRos2Args) -> Result<(), Failure> {
             })
             .bad_input()?,
     };
-    let images = RgbdImages::load(&args.frame)
+    let images = RgbdImages::load(&args.frame, config.perception.image_limit())
         .with_context(|| format!("--frame {}", args.frame.display()))
         .bad_input()?;
     let bin_dir = crate::harness::bin_dir()?;
