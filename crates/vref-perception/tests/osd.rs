@@ -24,33 +24,24 @@ fn held_aside_osd_scenes_score_above_their_floors() {
     let dir = osd();
     let mut segmenter = Segmenter::new(SegmentationSettings::default());
     let mut labels = LabelImage::new(1, 1);
-    let intrinsics = Intrinsics::new(525.0, 525.0, 319.5, 239.5).unwrap();
     let mut scores: Vec<ImageScore> = Vec::new();
     for n in (0..45).step_by(5) {
         let scene = dir.join(format!("learn/learn{n}"));
-        let colour = load_colour(
+        // The scene's labels load as its masks, through the camera file
+        // beside learn/ (the loader the feeds and `vref segment` use).
+        let images = folder::RgbdImages::load_files(
             &scene.join("rgb.png"),
-            vref_perception::ImageLimit::default(),
+            &scene.join("depth.png"),
+            Some(&scene.join("label.png")),
+            folder::Camera::load(&folder::camera_file_of(&scene).unwrap()).unwrap(),
+            ImageLimit::default(),
         )
         .unwrap();
-        let depth = DepthImage::new(
-            load_depth(
-                &scene.join("depth.png"),
-                vref_perception::ImageLimit::default(),
-            )
-            .unwrap(),
-            0.001,
-        )
-        .unwrap();
-        let truth = load_depth(
-            &scene.join("label.png"),
-            vref_perception::ImageLimit::default(),
-        )
-        .unwrap();
+        let truth = images.masks.unwrap();
         let frame = RgbdFrame {
-            colour: &colour,
-            depth: &depth,
-            intrinsics,
+            colour: &images.colour,
+            depth: &images.depth,
+            intrinsics: images.camera.intrinsics,
             up: None,
         };
         let result = segmenter.segment(&frame, &mut labels).unwrap();

@@ -18,24 +18,11 @@ fn frames_after_the_first_allocate_nothing() {
         "the OSD data set is missing: {}",
         scene.display()
     );
-    let colour = load_colour(
-        &scene.join("rgb.png"),
-        vref_perception::ImageLimit::default(),
-    )
-    .unwrap();
-    let depth = DepthImage::new(
-        load_depth(
-            &scene.join("depth.png"),
-            vref_perception::ImageLimit::default(),
-        )
-        .unwrap(),
-        0.001,
-    )
-    .unwrap();
+    let images = folder::RgbdImages::load(&scene, ImageLimit::default()).unwrap();
     let frame = RgbdFrame {
-        colour: &colour,
-        depth: &depth,
-        intrinsics: Intrinsics::new(525.0, 525.0, 319.5, 239.5).unwrap(),
+        colour: &images.colour,
+        depth: &images.depth,
+        intrinsics: images.camera.intrinsics,
         up: None,
     };
     let mut segmenter = Segmenter::new(SegmentationSettings::default());
