@@ -12,7 +12,8 @@
 //!
 //! JSON overrides `[segmentation]` defaults (before the per-camera
 //! scaling); HUMAN_C the headset's `pixel` c (default the config's).
-//! `VERBOSE=1` prints every lost instance.
+//! `VERBOSE=1` prints every lost instance, and every false segment with
+//! the share of it that lies on some instance (a fragment of an object).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::path::PathBuf;
@@ -163,6 +164,41 @@ fn main() {
                 }
             }
             counts[4] = (1..=n).filter(|&l| !seg_has_truth[l]).count();
+            if verbose {
+                // Each false segment: how much of it lies on some
+                // instance (a fragment of an object) or on none (the
+                // support, or something unlabelled), and where it is.
+                let mut on_truth = vec![0usize; n + 1];
+                let mut sum_uv = vec![(0usize, 0usize); n + 1];
+                let mut hs: Vec<Vec<f64>> = vec![Vec::new(); n + 1];
+                for (i, &l) in raw.iter().enumerate() {
+                    if l == 0 || seg_has_truth[l as usize] {
+                        continue;
+                    }
+                    let l = l as usize;
+                    on_truth[l] += usize::from(view.masks.iter().any(|m| m.as_raw()[i] != 0));
+                    sum_uv[l].0 += i % w as usize;
+                    sum_uv[l].1 += i / w as usize;
+                    if let Some((h, _)) = height(i) {
+                        hs[l].push(h);
+                    }
+                }
+                for l in (1..=n).filter(|&l| !seg_has_truth[l]) {
+                    let a = seg_area[l].max(1);
+                    hs[l].sort_by(f64::total_cmp);
+                    let median = hs[l].get(hs[l].len() / 2).copied().unwrap_or(f64::NAN);
+                    println!(
+                        "  {:06} {} false seg {l:2} px {:6} on instances {:4.2} at ({:4}, {:4}) median height {:5.1} cm",
+                        scene.id,
+                        ["robot", "human"][c],
+                        seg_area[l],
+                        on_truth[l] as f64 / a as f64,
+                        sum_uv[l].0 / a,
+                        sum_uv[l].1 / a,
+                        100.0 * median
+                    );
+                }
+            }
             let med = |mut v: Vec<f64>| {
                 v.sort_by(f64::total_cmp);
                 v.get(v.len() / 2).map_or(f64::NAN, |x| 100.0 * x)

@@ -1,6 +1,8 @@
 //! Connected segments of the uncut object pixels, grown back over the
 //! cuts and the objects' feet, the small ones dropped.
 
+use super::split::jump_limit;
+
 /// Scratch of the labelling, sized to the image once.
 #[derive(Debug, Default)]
 pub(crate) struct Scratch {
@@ -31,9 +33,11 @@ impl Scratch {
 
 /// Depth continuity between two neighbours: both read, and closer than
 /// `ratio` of the depth.
-fn joined(z: &[f32], a: usize, b: usize, ratio: f32) -> bool {
+fn joined(z: &[f32], a: usize, b: usize, rule: &Rule) -> bool {
     let (za, zb) = (z[a], z[b]);
-    za > 0.0 && zb > 0.0 && (za - zb).abs() <= ratio * za.min(zb)
+    za > 0.0
+        && zb > 0.0
+        && (za - zb).abs() <= jump_limit(za.min(zb), rule.jump_ratio, rule.tolerance)
 }
 
 /// The four neighbours of `i` inside the image.
@@ -123,7 +127,7 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
         while let Some(p) = queue.pop() {
             let p = p as usize;
             for q in neighbours(p, width, pixels) {
-                if seed[q] && labels[q] == 0 && joined(z, p, q, rule.jump_ratio) {
+                if seed[q] && labels[q] == 0 && joined(z, p, q, &rule) {
                     labels[q] = id;
                     size += 1;
                     queue.push(q as u32);
@@ -160,7 +164,7 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
         }
         let id = labels[p];
         for q in neighbours(p, width, pixels) {
-            if grow[q] && labels[q] == 0 && joined(z, p, q, rule.jump_ratio) {
+            if grow[q] && labels[q] == 0 && joined(z, p, q, &rule) {
                 labels[q] = id;
                 steps[q] = step + 1;
                 queue.push(q as u32);

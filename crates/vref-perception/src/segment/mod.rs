@@ -426,6 +426,7 @@ impl Segmenter {
         };
         let rule = split::CutRule {
             jump_ratio,
+            tolerance,
             crease: s.crease as f32,
             weak_crease: s.weak_crease as f32,
             crease_step: s.crease_step as usize,

@@ -18,10 +18,24 @@ pub(crate) struct CutInput<'a> {
     pub height: usize,
 }
 
+/// The largest depth step between neighbouring raw readings at depth `z`
+/// that is still one surface: `jump_ratio` of the depth, or four sigmas
+/// of the difference of two readings' noise where that is more. The
+/// plane's `tolerance` is four sigmas of one reading at 1 m, growing with
+/// `z^2`, so the difference's four sigmas are `sqrt(2) tolerance z^2`: at
+/// the reference camera's 1 m that is below the ratio, at its 4 m (1 %
+/// noise per reading) over twice it, where the ratio alone cut far
+/// objects into pieces.
+pub(crate) fn jump_limit(z: f32, ratio: f32, tolerance: f32) -> f32 {
+    z * ratio.max(std::f32::consts::SQRT_2 * tolerance * z)
+}
+
 /// Thresholds of the cut test.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct CutRule {
     pub jump_ratio: f32,
+    /// The plane tolerance at 1 m: the depth noise law, for [`jump_limit`].
+    pub tolerance: f32,
     pub crease: f32,
     pub weak_crease: f32,
     pub crease_step: usize,
@@ -83,7 +97,7 @@ pub(crate) fn cuts(input: &CutInput<'_>, rule: CutRule, candidate: &[bool], cut:
                 continue;
             }
             let z0 = z[i];
-            let limit = rule.jump_ratio * z0;
+            let limit = jump_limit(z0, rule.jump_ratio, rule.tolerance);
             let mut weak = false;
             // Jumps: to each neighbour, and between the neighbours either
             // side, which a flying pixel between two surfaces bridges in
@@ -138,5 +152,23 @@ pub(crate) fn cuts(input: &CutInput<'_>, rule: CutRule, candidate: &[bool], cut:
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::jump_limit;
+
+    #[test]
+    fn the_jump_limit_is_the_ratio_near_and_the_noise_far() {
+        let (ratio, tolerance) = (0.02, 0.01);
+        // At 1 m the noise's four sigmas (1.4 % of depth) are below the ratio.
+        assert_eq!(jump_limit(1.0, ratio, tolerance), 0.02);
+        assert_eq!(jump_limit(0.5, ratio, tolerance), 0.5 * 0.02);
+        // At 4 m one reading errs by 1 % of its depth: a 4 % step between
+        // neighbours (2.8 sigmas of their difference) is noise, not a jump;
+        // a 6 % one is.
+        let limit = jump_limit(4.0, ratio, tolerance);
+        assert!(limit > 0.04 * 4.0 && limit < 0.06 * 4.0, "{limit}");
     }
 }
