@@ -3,7 +3,7 @@
 //! ascending order, counting from 1, and at least rank 1: p50 of 1..=1000
 //! is 500, p99 is 990, p99.9 is 999, p0 is the smallest value and p100
 //! the largest. It is always one of the values, never an interpolation.
-//! `clients/python/src/vref_client/bench.py` implements the same.
+//! `clients/python/src/vref_client/measure.py` implements the same.
 
 /// The 1-based rank of quantile `q` among `n` values: ceil(q·n), clamped
 /// to 1..=n; 0 only when `n` is 0. A product within 1e-9 of a whole
