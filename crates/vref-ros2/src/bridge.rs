@@ -8,8 +8,6 @@ use std::collections::BTreeMap;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use iceoryx2::port::subscriber::Subscriber;
-use iceoryx2::prelude::*;
 use image::RgbImage;
 use ros2_client::{
     Context, ContextOptions, Name, NodeName, NodeOptions, QosProfile, ServiceMapping, Subscription,
@@ -20,14 +18,14 @@ use vref_perception::{DepthImage, ImageLimit, Intrinsics, LabelImage};
 use vref_scene::Side;
 use vref_view::{Asked, View};
 use vref_wire::ipc::{
-    Decision, GesturePublisher, IpcError, IpcSettings, ReferenceClient, SnapshotPublisher,
-    create_node, nap, now_ns, open_decision, open_snapshot,
+    GesturePublisher, IpcError, IpcSettings, ReferenceClient, SnapshotPublisher, create_node, nap,
+    now_ns,
 };
-use vref_wire::{DecisionEntry, DecisionHeader, ObjectEntry, SnapshotHeader};
 
 use crate::answer::{NewAnswers, referenced_point, trigger_failure, trigger_response};
 use crate::decode::{self, DecodeError, Stream};
 use crate::markers::{Frames, Scene, headset_pose, markers};
+use crate::matcher_side::MatcherSide;
 use crate::msg::{self, Time};
 use crate::pairing::Pairer;
 use crate::perceive::Perception;
@@ -388,22 +386,7 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
     let ipc = &config.ipc;
     let node = create_node(ipc, "vref-ros2")?;
     node.try_cleanup_dead_nodes();
-    let (human_port, _) = open_snapshot(&node, ipc, Side::Human)?;
-    let human_sub: Subscriber<ipc::Service, [ObjectEntry], SnapshotHeader> = human_port
-        .subscriber_builder()
-        .create()
-        .map_err(|e| IpcError::Iceoryx {
-            what: "creating human snapshot subscriber".to_owned(),
-            message: format!("{e:?}"),
-        })?;
-    let (decision_port, _) = open_decision(&node, ipc)?;
-    let decision_sub: Subscriber<ipc::Service, [DecisionEntry], DecisionHeader> = decision_port
-        .subscriber_builder()
-        .create()
-        .map_err(|e| IpcError::Iceoryx {
-            what: "creating decision subscriber".to_owned(),
-            message: format!("{e:?}"),
-        })?;
+    let mut matcher = MatcherSide::open(&node, ipc)?;
 
     let context = Context::with_options(ContextOptions::new().domain_id(domain))
         .map_err(|e| ros("DDS participant")(&e))?;
@@ -561,8 +544,6 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
         headset: &s.headset_frame_id,
     };
     let mut robot_view: Option<View> = None;
-    let mut human_view: Option<View> = None;
-    let mut decision: Option<Decision> = None;
     let mut answer: Option<Asked> = None;
     let mut news = NewAnswers::default();
     let mut scene_changed = false;
@@ -611,30 +592,17 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
         }
 
         // The matcher's side: the human view and decisions.
-        while let Ok(Some(sample)) = human_sub.receive() {
-            human_view = Some(View::from_wire(sample.user_header(), sample.payload()));
-            scene_changed = true;
-        }
-        let mut new_decision = false;
-        while let Ok(Some(sample)) = decision_sub.receive() {
-            match Decision::read(sample.user_header(), sample.payload()) {
-                Ok(d) => {
-                    decision = Some(d);
-                    new_decision = true;
-                }
-                Err(e) => tracing::warn!("decision refused: {e}"),
-            }
-        }
-        if new_decision {
-            scene_changed = true;
-            if let Some(pose) = decision
+        let taken = matcher.take();
+        scene_changed |= taken.view || taken.decision;
+        if taken.decision
+            && let Some(pose) = matcher
+                .decision
                 .as_ref()
                 .and_then(|d| headset_pose(d, &s.robot_frame_id, Time::from_ns(now_ns())))
-            {
-                match pose_pub.publish(pose) {
-                    Ok(()) => counts.headset_poses += 1,
-                    Err(e) => tracing::warn!("publishing the headset pose: {e:?}"),
-                }
+        {
+            match pose_pub.publish(pose) {
+                Ok(()) => counts.headset_poses += 1,
+                Err(e) => tracing::warn!("publishing the headset pose: {e:?}"),
             }
         }
 
@@ -690,8 +658,8 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
         if scene_changed && last_markers.is_none_or(|t| t.elapsed() >= marker_period) {
             let scene = Scene {
                 robot: robot_view.as_ref(),
-                human: human_view.as_ref(),
-                decision: decision.as_ref(),
+                human: matcher.human_view.as_ref(),
+                decision: matcher.decision.as_ref(),
                 answer: answer.as_ref().map(|a| &a.answer),
             };
             match markers_pub.publish(markers(&scene, frames, Time::from_ns(now_ns()))) {

@@ -21,6 +21,7 @@ mod bridge;
 pub mod cdr;
 pub mod decode;
 pub mod markers;
+mod matcher_side;
 pub mod msg;
 pub mod pairing;
 pub mod perceive;

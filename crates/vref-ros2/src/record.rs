@@ -20,14 +20,13 @@ use serde::Serialize;
 use vref_config::Config;
 use vref_scene::Side;
 use vref_view::{Asked, View};
-use vref_wire::ipc::{
-    Decision, IpcError, ReferenceClient, create_node, nap, now_ns, open_decision, open_snapshot,
-};
-use vref_wire::{DecisionEntry, DecisionHeader, ObjectEntry, SnapshotHeader};
+use vref_wire::ipc::{IpcError, ReferenceClient, create_node, nap, now_ns, open_snapshot};
+use vref_wire::{ObjectEntry, SnapshotHeader};
 
 use crate::answer::{NewAnswers, referenced_point};
 use crate::cdr::{CdrError, to_cdr};
 use crate::markers::{Frames, Scene, headset_pose, markers};
+use crate::matcher_side::MatcherSide;
 use crate::msg::{MarkerArray, PointStamped, PoseStamped, Time};
 
 /// The interface definitions, as rosbag2 writes them: the type's own
@@ -219,16 +218,7 @@ pub fn record<W: Write + Seek>(
         .subscriber_builder()
         .create()
         .map_err(|e| iox("robot snapshot")(&e))?;
-    let (human_port, _) = open_snapshot(&node, ipc, Side::Human)?;
-    let human_sub: Subscriber<ipc::Service, [ObjectEntry], SnapshotHeader> = human_port
-        .subscriber_builder()
-        .create()
-        .map_err(|e| iox("human snapshot")(&e))?;
-    let (decision_port, _) = open_decision(&node, ipc)?;
-    let decision_sub: Subscriber<ipc::Service, [DecisionEntry], DecisionHeader> = decision_port
-        .subscriber_builder()
-        .create()
-        .map_err(|e| iox("decision")(&e))?;
+    let mut matcher = MatcherSide::open(&node, ipc)?;
     let mut client = if answer_rate_hz > 0.0 {
         Some(ReferenceClient::connect(
             ipc,
@@ -248,8 +238,6 @@ pub fn record<W: Write + Seek>(
 
     let mut counts = RecordCounts::default();
     let mut robot_view: Option<View> = None;
-    let mut human_view: Option<View> = None;
-    let mut decision: Option<Decision> = None;
     let mut answer: Option<Asked> = None;
     let mut news = NewAnswers::default();
     let mut scene_changed = false;
@@ -261,24 +249,12 @@ pub fn record<W: Write + Seek>(
             robot_view = Some(View::from_wire(sample.user_header(), sample.payload()));
             scene_changed = true;
         }
-        while let Ok(Some(sample)) = human_sub.receive() {
-            human_view = Some(View::from_wire(sample.user_header(), sample.payload()));
-            scene_changed = true;
-        }
-        let mut new_decision = false;
-        while let Ok(Some(sample)) = decision_sub.receive() {
-            match Decision::read(sample.user_header(), sample.payload()) {
-                Ok(d) => {
-                    decision = Some(d);
-                    new_decision = true;
-                }
-                Err(e) => tracing::warn!("decision refused: {e}"),
-            }
-        }
-        if new_decision {
-            scene_changed = true;
+        let taken = matcher.take();
+        scene_changed |= taken.view || taken.decision;
+        if taken.decision {
             let now = now_ns();
-            if let Some(pose) = decision
+            if let Some(pose) = matcher
+                .decision
                 .as_ref()
                 .and_then(|d| headset_pose(d, &s.robot_frame_id, Time::from_ns(now)))
             {
@@ -320,8 +296,8 @@ pub fn record<W: Write + Seek>(
         if scene_changed && last_markers.is_none_or(|t| t.elapsed() >= marker_period) {
             let scene = Scene {
                 robot: robot_view.as_ref(),
-                human: human_view.as_ref(),
-                decision: decision.as_ref(),
+                human: matcher.human_view.as_ref(),
+                decision: matcher.decision.as_ref(),
                 answer: answer.as_ref().map(|a| &a.answer),
             };
             let now = now_ns();
