@@ -6,12 +6,12 @@ mod support;
 
 use std::time::Duration;
 
-use support::{json_lines, repo_root, vref};
+use support::{json_lines, vref};
 
 const LIMIT: Duration = Duration::from_secs(120);
 
 fn import(preset: &str, out: &std::path::Path) -> support::Run {
-    let dir = repo_root().join("../shared/data/bop").join(preset);
+    let dir = vref_testkit::data("bop").join(preset);
     vref(
         &[
             "import",
@@ -67,9 +67,7 @@ fn a_broken_scene_is_skipped_with_a_warning_and_the_rest_imported() {
     let dataset = dir.path().join("table");
     std::fs::create_dir_all(dataset.join("test")).unwrap();
     for scene in ["000004", "000005"] {
-        let from = repo_root()
-            .join("../shared/data/bop/table/test")
-            .join(scene);
+        let from = vref_testkit::data("bop/table/test").join(scene);
         // `cp -r` without preserving modes: the shared copy is read-only.
         let status = std::process::Command::new("cp")
             .arg("-r")
@@ -115,7 +113,7 @@ fn a_broken_scene_is_skipped_with_a_warning_and_the_rest_imported() {
 /// root path and prefix; every wait is bounded.
 #[test]
 fn the_live_demo_on_bop_scenes_answers_pointing_right() {
-    let table = repo_root().join("../shared/data/bop/table");
+    let table = vref_testkit::data("bop/table");
     let source = format!("bop:{}", table.display());
     let run = vref(
         &["demo", "--source", &source, "--duration", "6s", "--json"],
@@ -164,9 +162,7 @@ fn an_absurd_depth_scale_or_image_size_skips_its_scene_naming_why() {
     let dataset = dir.path().join("table");
     std::fs::create_dir_all(dataset.join("test")).unwrap();
     for scene in ["000004", "000005", "000006"] {
-        let from = repo_root()
-            .join("../shared/data/bop/table/test")
-            .join(scene);
+        let from = vref_testkit::data("bop/table/test").join(scene);
         let status = std::process::Command::new("cp")
             .arg("-r")
             .arg(&from)
@@ -249,7 +245,7 @@ fn png_header(width: u32, height: u32) -> Vec<u8> {
 fn viz_draws_a_bop_scene_over_its_two_images() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("m.png");
-    let table = repo_root().join("../shared/data/bop/table");
+    let table = vref_testkit::data("bop/table");
     let args = |scene: &str| {
         vec![
             "viz".to_owned(),

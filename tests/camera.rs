@@ -11,7 +11,7 @@ use std::time::Duration;
 
 use image::{ImageBuffer, Luma};
 use support::processes::{Harness, eventually};
-use support::{json_lines, repo_root, vref};
+use support::{json_lines, vref};
 use vref_wire::AnswerStatus;
 use vref_wire::ipc::ReferenceClient;
 
@@ -22,7 +22,7 @@ const LIMIT: Duration = Duration::from_secs(120);
 const KINECT_BOTH: &str = "\n[perception.human]\npixel = { a = 0.0, b = 0.0, c = 0.0025 }\nsystematic = { a = 0.0, b = 0.005, c = 0.0 }\n";
 
 fn osd_scene(name: &str) -> PathBuf {
-    let dir = repo_root().join("../shared/data/osd/learn").join(name);
+    let dir = vref_testkit::data("osd/learn").join(name);
     assert!(
         dir.is_dir(),
         "the OSD data set is missing: {}",
@@ -51,7 +51,7 @@ fn wall_frame(name: &str, to: &Path) {
 
 fn osd_camera(to: &Path) {
     std::fs::copy(
-        repo_root().join("../shared/data/osd/camera.json"),
+        vref_testkit::data("osd/camera.json"),
         to.join("camera.json"),
     )
     .unwrap();
@@ -229,11 +229,7 @@ fn import_bop_segment_gives_vrefs_own_objects_with_ground_truth_by_overlap() {
     for scene in ["000001", "000002"] {
         let status = std::process::Command::new("cp")
             .arg("-r")
-            .arg(
-                repo_root()
-                    .join("../shared/data/bop/table/test")
-                    .join(scene),
-            )
+            .arg(vref_testkit::data("bop/table/test").join(scene))
             .arg(dataset.join("test").join(scene))
             .status()
             .unwrap();

@@ -37,7 +37,7 @@ fn python() -> String {
 /// OSD scene `name` as raw buffers (rgb8, u16 mm depth, u16 labels) and
 /// its camera, for rosbag_writer.py.
 fn write_scene(dir: &Path, name: &str) {
-    let scene = repo_root().join("../shared/data/osd/learn").join(name);
+    let scene = vref_testkit::data("osd/learn").join(name);
     assert!(scene.exists(), "OSD data not found at {}", scene.display());
     std::fs::create_dir_all(dir).unwrap();
     let limit = vref_perception::ImageLimit::default();
@@ -45,7 +45,7 @@ fn write_scene(dir: &Path, name: &str) {
     let depth = vref_perception::load_depth(&scene.join("depth.png"), limit).unwrap();
     let labels = vref_perception::load_depth(&scene.join("label.png"), limit).unwrap();
     let camera: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(repo_root().join("../shared/data/osd/camera.json")).unwrap(),
+        &std::fs::read_to_string(vref_testkit::data("osd/camera.json")).unwrap(),
     )
     .unwrap();
     std::fs::write(dir.join("rgb.raw"), colour.as_raw()).unwrap();
@@ -352,7 +352,7 @@ fn record_ros2_writes_a_bag_that_rosbags_and_rclpy_read() {
 /// No timing is asserted.
 #[test]
 fn bench_ros2_reports_latency_beside_the_dds_floor() {
-    let frame = repo_root().join("../shared/data/osd/learn/learn3");
+    let frame = vref_testkit::data("osd/learn/learn3");
     let python = python();
     let run = support::vref(
         &[

@@ -709,7 +709,7 @@ fn scene_of_snapshot(world: &vref_feed::BopWorld, side: Side, data: &[u8]) -> Op
 fn vref_view_images_show_each_bop_scene_fed_with_its_mask_outlines() {
     use foxglove::messages::{CameraCalibration, CompressedImage, ImageAnnotations};
 
-    let table = support::repo_root().join("../shared/data/bop/table");
+    let table = vref_testkit::data("bop/table");
     let source = format!("bop:{}", table.display());
     let mut h = Harness::new("images", "");
     h.start("matcher", "vref-matcher", &[]);

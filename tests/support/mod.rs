@@ -35,11 +35,11 @@ pub fn repo_root() -> PathBuf {
         .unwrap()
 }
 
-/// CMU House as shared beside the repository; `VREF_CMU_HOUSE` overrides.
+/// CMU House in the shared data (`VREF_DATA`); `VREF_CMU_HOUSE` overrides.
 pub fn cmu_house_dir() -> PathBuf {
     let dir = std::env::var_os("VREF_CMU_HOUSE")
         .map(PathBuf::from)
-        .unwrap_or_else(|| repo_root().join("../shared/data/cmu_house"));
+        .unwrap_or_else(|| vref_testkit::data("cmu_house"));
     assert!(
         dir.join("label/house1").exists(),
         "CMU House data not found at {}",

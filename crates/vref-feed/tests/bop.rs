@@ -3,7 +3,7 @@
 //! when, without shared memory, and the pointing targets they agree on.
 
 use std::collections::HashSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use vref_config::Config;
 use vref_feed::{BopWorld, Due, Feed, FeedArgs, Publication, Role, SourceSpec};
@@ -14,7 +14,7 @@ const SECOND: u64 = 1_000_000_000;
 const NOW: u64 = 1_720_000_000 * SECOND;
 
 fn table() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/bop/table")
+    vref_testkit::data("bop/table")
 }
 
 fn world() -> BopWorld {

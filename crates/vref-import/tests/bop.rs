@@ -8,7 +8,7 @@ use vref_import::{BopDataset, BopImport, BopOptions, BopScene, ImportError};
 use vref_perception::PerceptionSettings;
 
 fn shared() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/bop")
+    vref_testkit::data("bop")
 }
 
 fn options() -> BopOptions {

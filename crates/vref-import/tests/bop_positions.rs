@@ -6,15 +6,13 @@
 //! docs/perception.md).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use vref_import::{BopDataset, BopOptions, BopScene};
 use vref_perception::PerceptionSettings;
 
 fn shared(preset: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/bop")
-        .join(preset)
+    vref_testkit::data("bop").join(preset)
 }
 
 /// Distances to the truth and signed errors along its ray, robot and

@@ -10,10 +10,10 @@ use vref_perception::segment::score::{ImageScore, MeanScore, score_image};
 use vref_perception::*;
 
 fn osd() -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/osd");
+    let dir = vref_testkit::data("osd");
     assert!(
         dir.join("learn").is_dir(),
-        "the OSD data set is missing: expected {} (../shared/data/osd beside the repository)",
+        "the OSD data set is missing: expected {} (../shared/data/osd beside the repository, or VREF_DATA)",
         dir.display()
     );
     dir

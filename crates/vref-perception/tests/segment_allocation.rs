@@ -2,7 +2,6 @@
 //! grown to the frame: a counting allocator checks it on a real frame.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::PathBuf;
 
 use vref_perception::*;
 
@@ -11,8 +10,7 @@ static ALLOCATOR: vref_alloc_count::Counting = vref_alloc_count::Counting;
 
 #[test]
 fn frames_after_the_first_allocate_nothing() {
-    let scene =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/osd/learn/learn21");
+    let scene = vref_testkit::data("osd/learn/learn21");
     assert!(
         scene.is_dir(),
         "the OSD data set is missing: {}",

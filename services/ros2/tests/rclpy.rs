@@ -16,13 +16,6 @@ use std::time::{Duration, Instant};
 /// The whole exchange, start-up included, must end within this.
 const LIMIT: Duration = Duration::from_secs(120);
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
-}
-
 /// A child killed when the test ends, whichever way.
 struct Guard(Child);
 
@@ -36,7 +29,7 @@ impl Drop for Guard {
 /// One OSD scene as the raw buffers a camera driver would send, with its
 /// instance labels (u16, 0 background).
 fn write_scene(dir: &Path, name: &str) {
-    let scene = repo().join("../shared/data/osd/learn").join(name);
+    let scene = vref_testkit::data("osd/learn").join(name);
     assert!(scene.exists(), "OSD data not found at {}", scene.display());
     let colour = vref_perception::load_colour(
         &scene.join("rgb.png"),
@@ -49,7 +42,7 @@ fn write_scene(dir: &Path, name: &str) {
     )
     .unwrap();
     let camera: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(repo().join("../shared/data/osd/camera.json")).unwrap(),
+        &std::fs::read_to_string(vref_testkit::data("osd/camera.json")).unwrap(),
     )
     .unwrap();
     std::fs::write(dir.join("rgb.raw"), colour.as_raw()).unwrap();

@@ -22,7 +22,7 @@ fn stderr(out: &Output) -> String {
 }
 
 fn osd() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/osd");
+    let dir = vref_testkit::data("osd");
     assert!(
         dir.join("learn").is_dir(),
         "the OSD data set is missing: expected {}",
