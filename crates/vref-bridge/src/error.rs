@@ -1,3 +1,5 @@
+use vref_config::{EndpointError, PrefixError};
+
 /// Why a network payload could not be decoded into a wire message, or a
 /// message encoded. Decoding only: whether a decoded message makes sense
 /// is vref-wire's validation.
@@ -40,8 +42,13 @@ pub enum CodecError {
 pub enum NetError {
     #[error("Zenoh configuration `{key}`: {message}")]
     Config { key: String, message: String },
-    #[error("key prefix `{prefix}`: {message}")]
-    Prefix { prefix: String, message: String },
+    #[error("Zenoh configuration `endpoint`: `{endpoint}`: {reason}")]
+    Endpoint {
+        endpoint: String,
+        reason: EndpointError,
+    },
+    #[error("key prefix `{prefix}`: {reason}")]
+    Prefix { prefix: String, reason: PrefixError },
     #[error("{what}: {message}")]
     Zenoh { what: String, message: String },
     #[error(
