@@ -15,7 +15,7 @@
 //!   (`shared`: the intake and the counters), watched by `workers`.
 //!
 //! Everything but [`net`], [`echo`] and the loop is pure and tested
-//! without a network.
+//! without a network; the loop is tested on loopback (tests/loopback.rs).
 
 pub mod binary;
 pub mod echo;
