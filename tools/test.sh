@@ -39,7 +39,8 @@ fi
 
 # The system tests start the service executables from target/debug; `cargo
 # test` builds a bin-only package's test harness, not its executable
-# (vref-bridge has no tests of its own), so build them all first.
+# (vref-bridge's binary package has no tests of its own), so build them
+# all first.
 cargo build --workspace --locked --bins
 
 # The viewer's tests read their MCAP files with Python's mcap too.

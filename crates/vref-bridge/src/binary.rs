@@ -4,23 +4,25 @@
 //! are checked exactly before a byte is read; a snapshot or decision is
 //! its header followed by exactly the entries the header counts.
 
+use std::mem::size_of;
+
 use vref_wire::{
-    Alternative, DecisionEntry, DecisionHeader, FRAME_NAME_LEN, MAX_ALTERNATIVES,
-    MAX_ANSWER_STATUSES, MAX_DECISION_PAIRS, MAX_FEATURE_DIM, MAX_REJECT_REASONS, MatcherStats,
-    ObjectEntry, PointingRay, ReferenceAnswer, ReferenceQuery, SnapshotHeader,
+    Alternative, DecisionEntry, DecisionHeader, MAX_DECISION_PAIRS, MatcherStats, ObjectEntry,
+    PointingRay, ReferenceAnswer, ReferenceQuery, SnapshotHeader,
 };
 
 use crate::CodecError;
 
-pub const SNAPSHOT_HEADER_BYTES: usize = 3 * 8 + 4 * 4 + FRAME_NAME_LEN + 3 * 4 + 4;
-pub const OBJECT_ENTRY_BYTES: usize = 8 + 6 * 4 + MAX_FEATURE_DIM * 4;
-pub const RAY_BYTES: usize = 3 * 8 + 10 * 4;
-pub const QUERY_BYTES: usize = 2 * 8 + 10 * 4;
-pub const ANSWER_BYTES: usize = 9 * 8 + 10 * 4 + MAX_ALTERNATIVES * 16 + 2 * 4;
-pub const STATS_BYTES: usize =
-    (3 + 2 + 2 + MAX_REJECT_REASONS + MAX_ANSWER_STATUSES + 2) * 8 + 2 * 4;
-pub const DECISION_HEADER_BYTES: usize = 9 * 8 + 12 * 4 + 2 * 4 + 16 + 2 * 4;
-pub const DECISION_ENTRY_BYTES: usize = 2 * 8 + 4 * 4;
+// Each encoding is its type's shared-memory layout, so its size is the
+// type's size (vref_wire::layout reads the same `size_of`).
+pub const SNAPSHOT_HEADER_BYTES: usize = size_of::<SnapshotHeader>();
+pub const OBJECT_ENTRY_BYTES: usize = size_of::<ObjectEntry>();
+pub const RAY_BYTES: usize = size_of::<PointingRay>();
+pub const QUERY_BYTES: usize = size_of::<ReferenceQuery>();
+pub const ANSWER_BYTES: usize = size_of::<ReferenceAnswer>();
+pub const STATS_BYTES: usize = size_of::<MatcherStats>();
+pub const DECISION_HEADER_BYTES: usize = size_of::<DecisionHeader>();
+pub const DECISION_ENTRY_BYTES: usize = size_of::<DecisionEntry>();
 
 /// A snapshot: the header, then `entries` (the header's `object_count`
 /// is written as given).
@@ -402,24 +404,46 @@ impl<'a> Reader<'a> {
 
 #[cfg(test)]
 mod tests {
-    use std::mem::size_of;
-
-    use vref_wire::{AnswerStatus, SCHEMA_VERSION, SideCode};
+    use vref_wire::{AnswerStatus, FRAME_NAME_LEN, SCHEMA_VERSION, SideCode};
 
     use super::*;
 
-    /// The encoding is the wire type's memory layout: same size, so a
-    /// field added to a wire type fails here until the codec has it.
+    /// The size of `name` in vref-wire's published layout.
+    fn layout_size(name: &str) -> usize {
+        vref_wire::layout::wire_types()
+            .into_iter()
+            .find(|t| t.name == name)
+            .map(|t| t.size)
+            .unwrap_or_else(|| panic!("{name} is not in the layout"))
+    }
+
+    /// Every encoder writes every byte of its type's layout: a field
+    /// added to a wire type fails here until the codec writes it.
     #[test]
-    fn sizes_are_the_wire_types_sizes() {
-        assert_eq!(SNAPSHOT_HEADER_BYTES, size_of::<SnapshotHeader>());
-        assert_eq!(OBJECT_ENTRY_BYTES, size_of::<ObjectEntry>());
-        assert_eq!(RAY_BYTES, size_of::<PointingRay>());
-        assert_eq!(QUERY_BYTES, size_of::<ReferenceQuery>());
-        assert_eq!(ANSWER_BYTES, size_of::<ReferenceAnswer>());
-        assert_eq!(STATS_BYTES, size_of::<MatcherStats>());
-        assert_eq!(DECISION_HEADER_BYTES, size_of::<DecisionHeader>());
-        assert_eq!(DECISION_ENTRY_BYTES, size_of::<DecisionEntry>());
+    fn encodings_fill_the_published_layout() {
+        assert_eq!(
+            encode_snapshot(&header(2), &[entry(1), entry(2)]).len(),
+            layout_size("SnapshotHeader") + 2 * layout_size("ObjectEntry")
+        );
+        let ray = decode_ray(&[0; RAY_BYTES]).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(encode_ray(&ray).len(), layout_size("PointingRay"));
+        assert_eq!(
+            encode_query(&ReferenceQuery::latest_gesture()).len(),
+            layout_size("ReferenceQuery")
+        );
+        assert_eq!(
+            encode_answer(&ReferenceAnswer::empty(1, AnswerStatus::Ok)).len(),
+            layout_size("ReferenceAnswer")
+        );
+        assert_eq!(
+            encode_stats(&MatcherStats::default()).len(),
+            layout_size("MatcherStats")
+        );
+        let entries = [DecisionEntry::default(); 3];
+        assert_eq!(
+            encode_decision(&DecisionHeader::default(), &entries).len(),
+            layout_size("DecisionHeader") + 3 * layout_size("DecisionEntry")
+        );
     }
 
     fn entry(id: u64) -> ObjectEntry {

@@ -1,3 +1,6 @@
+use vref_config::{EndpointError, PrefixError};
+use vref_wire::ipc::IpcError;
+
 /// Why a network payload could not be decoded into a wire message, or a
 /// message encoded. Decoding only: whether a decoded message makes sense
 /// is vref-wire's validation.
@@ -40,8 +43,13 @@ pub enum CodecError {
 pub enum NetError {
     #[error("Zenoh configuration `{key}`: {message}")]
     Config { key: String, message: String },
-    #[error("key prefix `{prefix}`: {message}")]
-    Prefix { prefix: String, message: String },
+    #[error("Zenoh configuration `endpoint`: `{endpoint}`: {reason}")]
+    Endpoint {
+        endpoint: String,
+        reason: EndpointError,
+    },
+    #[error("key prefix `{prefix}`: {reason}")]
+    Prefix { prefix: String, reason: PrefixError },
     #[error("{what}: {message}")]
     Zenoh { what: String, message: String },
     #[error(
@@ -56,6 +64,51 @@ pub enum NetError {
         #[source]
         source: CodecError,
     },
+}
+
+/// Why the bridge could not start or stopped running.
+#[derive(Debug, thiserror::Error)]
+pub enum BridgeError {
+    /// `[bridge]` cannot be used as given: its prefix, or the Zenoh
+    /// configuration made from it.
+    #[error("[bridge]")]
+    Config(#[source] NetError),
+    /// Zenoh failed: opening the session, declaring, receiving, closing.
+    #[error(transparent)]
+    Net(#[from] NetError),
+    #[error("creating the iceoryx2 node")]
+    Node(#[source] IpcError),
+    /// A node or service of iceoryx2 could not be made or opened.
+    #[error(transparent)]
+    Ipc(#[from] IpcError),
+    /// A port of an opened service could not be made.
+    #[error("creating the {what}: {detail}")]
+    Port { what: &'static str, detail: String },
+    #[error("starting the {name} thread")]
+    Spawn {
+        name: &'static str,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A thread ended while the bridge was running.
+    #[error("the {name} thread stopped")]
+    Stopped { name: &'static str },
+    #[error("the {name} thread panicked")]
+    Panicked { name: &'static str },
+    /// A thread ended with an error.
+    #[error("the {name} thread")]
+    Thread {
+        name: &'static str,
+        #[source]
+        source: Box<BridgeError>,
+    },
+}
+
+impl BridgeError {
+    /// Whether the configuration is at fault (exit code 2), not the run.
+    pub fn is_configuration(&self) -> bool {
+        matches!(self, Self::Config(_))
+    }
 }
 
 /// Shorthand for Zenoh's boxed errors, which carry only their text.

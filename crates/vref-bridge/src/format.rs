@@ -5,6 +5,7 @@
 //! another type or version is refused by its label before any byte of it
 //! is read.
 
+use vref_config::StateEncoding;
 use vref_wire::SCHEMA_VERSION;
 
 use crate::CodecError;
@@ -26,6 +27,16 @@ impl Format {
         match self {
             Format::Json => "json",
             Format::Binary => "binary",
+        }
+    }
+}
+
+/// The encoding `[bridge] state_encoding` names.
+impl From<StateEncoding> for Format {
+    fn from(encoding: StateEncoding) -> Self {
+        match encoding {
+            StateEncoding::Json => Format::Json,
+            StateEncoding::Binary => Format::Binary,
         }
     }
 }
@@ -101,6 +112,12 @@ impl Message {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_state_encoding_setting_names_its_format() {
+        assert_eq!(Format::from(StateEncoding::Json), Format::Json);
+        assert_eq!(Format::from(StateEncoding::Binary), Format::Binary);
+    }
 
     #[test]
     fn only_the_two_declared_encodings_of_the_message_are_accepted() {

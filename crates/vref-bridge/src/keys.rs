@@ -14,9 +14,9 @@ impl Keys {
     /// `prefix` as `[bridge] prefix` allows it: no wildcards, no empty
     /// chunk, so it never matches another robot's keys.
     pub fn new(prefix: &str) -> Result<Self, NetError> {
-        vref_config::check_prefix(prefix).map_err(|message| NetError::Prefix {
+        vref_config::check_prefix(prefix).map_err(|reason| NetError::Prefix {
             prefix: prefix.to_owned(),
-            message,
+            reason,
         })?;
         Ok(Self {
             prefix: prefix.to_owned(),
@@ -75,6 +75,12 @@ mod tests {
         assert_eq!(keys.human_snapshot(), "vref/r1/human/snapshot");
         assert_eq!(keys.reference(), "vref/r1/reference");
         assert_eq!(keys.bridge_stats(), "vref/r1/bridge/stats");
-        assert!(matches!(Keys::new("vref/*"), Err(NetError::Prefix { .. })));
+        assert_eq!(
+            Keys::new("vref/*"),
+            Err(NetError::Prefix {
+                prefix: "vref/*".to_owned(),
+                reason: vref_config::PrefixError::Character('*'),
+            })
+        );
     }
 }

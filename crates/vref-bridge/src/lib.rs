@@ -9,21 +9,32 @@
 //! - [`keys`]: one robot's Zenoh keys under its prefix (fleet naming).
 //! - [`net`]: Zenoh sessions from the settings, and [`net::RemoteClient`].
 //! - [`echo`]: a queryable with no matcher behind it, Zenoh's own floor.
+//! - [`run`]: the `vref-bridge` process's loop, as the matcher's is in
+//!   vref-serve and the feeds' in vref-feed: one thread for each direction
+//!   (`headset_in`, `queries_in`, `state_out`) around what they share
+//!   (`shared`: the intake and the counters), watched by `workers`.
 //!
-//! Everything but [`net`] and [`echo`] is pure and tested without a network.
+//! Everything but [`net`], [`echo`] and the loop is pure and tested
+//! without a network; the loop is tested on loopback (tests/loopback.rs).
 
 pub mod binary;
 pub mod echo;
 mod error;
 pub mod format;
+mod headset_in;
 pub mod intake;
 pub mod json;
 pub mod keys;
 pub mod net;
+mod queries_in;
 pub mod rate;
+mod service;
+mod shared;
+mod state_out;
 pub mod stats;
+mod workers;
 
-pub use error::{CodecError, NetError};
+pub use error::{BridgeError, CodecError, NetError};
 pub use format::{Format, Message};
 pub use intake::{HeadsetIntake, IntakeLimits, QueryIntake, Refusal, StreamCounters};
 pub use keys::Keys;
@@ -31,6 +42,7 @@ pub use net::{
     ErrorReply, RemoteClient, open_bridge_session, open_client_session, open_peer_session,
     zenoh_config,
 };
+pub use service::{run, run_until};
 pub use stats::{BridgeStats, Published};
 
 /// A session id that differs between runs of the bridge: the start time

@@ -129,9 +129,9 @@ impl RemoteClient {
 
     /// Connects a client session to `endpoint` first.
     pub fn connect(endpoint: &str, prefix: &str, format: Format) -> Result<Self, NetError> {
-        vref_config::check_endpoint(endpoint).map_err(|message| NetError::Config {
-            key: "endpoint".to_owned(),
-            message: format!("`{endpoint}`: {message}"),
+        vref_config::check_endpoint(endpoint).map_err(|reason| NetError::Endpoint {
+            endpoint: endpoint.to_owned(),
+            reason,
         })?;
         Self::new(open_client_session(&[endpoint.to_owned()])?, prefix, format)
     }

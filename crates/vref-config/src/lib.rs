@@ -16,7 +16,8 @@ use vref_scene::Limits;
 use vref_wire::ipc::IpcSettings;
 
 pub use bridge::{
-    BridgeSettings, StateEncoding, TRANSPORTS, ZenohMode, check_endpoint, check_prefix,
+    BridgeSettings, BridgeSettingsError, EndpointError, PrefixError, StateEncoding, TRANSPORTS,
+    ZenohMode, check_endpoint, check_prefix,
 };
 pub use ros2::{ROS_DOMAIN_ID_ENV, Ros2Settings};
 
@@ -63,6 +64,12 @@ pub enum ConfigError {
     },
     #[error("{path}: [scene] {message}")]
     Scene { path: PathBuf, message: String },
+    #[error("{path}: [bridge]")]
+    Bridge {
+        path: PathBuf,
+        #[source]
+        source: BridgeSettingsError,
+    },
     #[error("{path}: [{section}] {message}")]
     Section {
         path: PathBuf,
@@ -344,9 +351,10 @@ impl Config {
                 ));
             }
         }
-        self.bridge
-            .check()
-            .map_err(|message| section("bridge", message))?;
+        self.bridge.check().map_err(|source| ConfigError::Bridge {
+            path: path.to_owned(),
+            source,
+        })?;
         self.ros2
             .check()
             .map_err(|message| section("ros2", message))

@@ -3,15 +3,12 @@
 //! gesture feed would; remote reference queries are asked of the local
 //! matcher; the robot's snapshots, the matcher's statistics and decision
 //! go out. Everything from the network is checked as strictly as shared
-//! memory is (vref-bridge's intake) and counted when refused.
+//! memory is (vref-bridge's intake) and counted when refused. The loop is
+//! `vref_bridge::run` (crates/vref-bridge), as the matcher's is in
+//! crates/vref-serve.
 //!
 //! Exit codes: 0 stopped on SIGINT/SIGTERM, 1 failure while running,
 //! 2 bad configuration.
-
-mod headset;
-mod queries;
-mod service;
-mod state;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -48,15 +45,12 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    match service::run(&config) {
+    match vref_bridge::run(&config) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(service::Failure::Config(e)) => {
-            tracing::error!("[bridge]: {e:#}");
-            ExitCode::from(2)
-        }
-        Err(service::Failure::Run(e)) => {
-            tracing::error!("{e:#}");
-            ExitCode::from(1)
+        Err(e) => {
+            let code = if e.is_configuration() { 2 } else { 1 };
+            tracing::error!("{:#}", anyhow::Error::from(e));
+            ExitCode::from(code)
         }
     }
 }

@@ -7,7 +7,6 @@ use std::sync::Arc;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, TrySendError, sync_channel};
 use std::time::Instant;
 
-use anyhow::{Context, anyhow};
 use vref_scene::Side;
 use vref_wire::ipc::{GesturePublisher, SnapshotPublisher, create_node, now_ns};
 use vref_wire::{ObjectEntry, PointingRay, SnapshotHeader};
@@ -15,7 +14,10 @@ use zenoh::Wait;
 use zenoh::pubsub::Subscriber;
 use zenoh::sample::Sample;
 
-use crate::service::{POLL, Shared, Worker, lock};
+use crate::BridgeError;
+use crate::error::zenoh_err;
+use crate::shared::{POLL, Shared, lock};
+use crate::workers::Worker;
 
 /// Messages checked and waiting to be published. Small: the intake has
 /// already cut the traffic to the configured rates, so a full queue means
@@ -29,10 +31,10 @@ enum Inbound {
 }
 
 /// Declares the two subscribers and starts the publishing thread.
-pub fn start(
+pub(crate) fn start(
     session: &zenoh::Session,
     shared: &Arc<Shared>,
-) -> anyhow::Result<(Vec<Subscriber<()>>, Worker)> {
+) -> Result<(Vec<Subscriber<()>>, Worker), BridgeError> {
     let (tx, rx) = sync_channel::<Inbound>(QUEUE);
     let keys = &shared.keys;
     let snapshots = {
@@ -41,7 +43,7 @@ pub fn start(
             .declare_subscriber(keys.human_snapshot())
             .callback(move |sample| on_snapshot(&shared, &tx, &sample))
             .wait()
-            .map_err(|e| anyhow!("subscribing to {}: {e}", keys.human_snapshot()))?
+            .map_err(|e| zenoh_err(format!("subscribing to {}", keys.human_snapshot()), e))?
     };
     let rays = {
         let shared = Arc::clone(shared);
@@ -49,13 +51,16 @@ pub fn start(
             .declare_subscriber(keys.human_gesture())
             .callback(move |sample| on_ray(&shared, &tx, &sample))
             .wait()
-            .map_err(|e| anyhow!("subscribing to {}: {e}", keys.human_gesture()))?
+            .map_err(|e| zenoh_err(format!("subscribing to {}", keys.human_gesture()), e))?
     };
     let shared = Arc::clone(shared);
     let thread = std::thread::Builder::new()
         .name("headset-in".to_owned())
         .spawn(move || publish(&shared, &rx))
-        .context("starting the headset thread")?;
+        .map_err(|source| BridgeError::Spawn {
+            name: "headset",
+            source,
+        })?;
     Ok((vec![snapshots, rays], thread))
 }
 
@@ -66,7 +71,7 @@ fn on_snapshot(shared: &Shared, tx: &SyncSender<Inbound>, sample: &Sample) {
     match intake.snapshot(&encoding, &payload, Instant::now(), now_ns()) {
         Ok((header, entries)) => {
             if let Err(e) = tx.try_send(Inbound::Snapshot(header, entries)) {
-                intake.snapshot_counters_mut().refuse(queue_error(&e));
+                intake.snapshot_counters_mut().refuse(queue_refusal(&e));
             }
         }
         Err(refusal) => tracing::debug!(reason = refusal.name(), "refused snapshot: {refusal}"),
@@ -80,14 +85,15 @@ fn on_ray(shared: &Shared, tx: &SyncSender<Inbound>, sample: &Sample) {
     match intake.ray(&encoding, &payload, Instant::now(), now_ns()) {
         Ok(ray) => {
             if let Err(e) = tx.try_send(Inbound::Ray(ray)) {
-                intake.ray_counters_mut().refuse(queue_error(&e));
+                intake.ray_counters_mut().refuse(queue_refusal(&e));
             }
         }
         Err(refusal) => tracing::debug!(reason = refusal.name(), "refused ray: {refusal}"),
     }
 }
 
-fn queue_error<T>(e: &TrySendError<T>) -> &'static str {
+/// The counter a message that passed but could not be queued goes to.
+fn queue_refusal<T>(e: &TrySendError<T>) -> &'static str {
     match e {
         TrySendError::Full(_) => "busy",
         TrySendError::Disconnected(_) => "stopped",
@@ -95,7 +101,7 @@ fn queue_error<T>(e: &TrySendError<T>) -> &'static str {
 }
 
 /// Publishes what passed into iceoryx2 until the bridge stops.
-fn publish(shared: &Shared, rx: &Receiver<Inbound>) -> anyhow::Result<()> {
+fn publish(shared: &Shared, rx: &Receiver<Inbound>) -> Result<(), BridgeError> {
     let ipc = &shared.config.ipc;
     let node = create_node(ipc, "vref-bridge-headset")?;
     // Declared after the node, so dropped before it. The frame name given
@@ -131,4 +137,20 @@ fn publish(shared: &Shared, rx: &Receiver<Inbound>) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_full_queue_is_busy_and_a_closed_one_stopped() {
+        let (tx, rx) = sync_channel::<u8>(1);
+        assert!(tx.try_send(1).is_ok());
+        let full = tx.try_send(2).err();
+        assert_eq!(full.as_ref().map(queue_refusal), Some("busy"));
+        drop(rx);
+        let closed = tx.try_send(3).err();
+        assert_eq!(closed.as_ref().map(queue_refusal), Some("stopped"));
+    }
 }
