@@ -2,7 +2,6 @@
 //! grown to the frame: a counting allocator checks it on a real frame.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-
 use vref_perception::*;
 
 #[global_allocator]
