@@ -3,6 +3,6 @@
 # script with the command that builds it when it is not built.
 vref=target/release/vref
 [ -x "$vref" ] || {
-  echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref --bins --examples" >&2
+  echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref -p vref-research --bins --examples" >&2
   exit 2
 }

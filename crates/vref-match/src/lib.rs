@@ -12,7 +12,6 @@
 //! objects).
 
 mod appearance;
-pub mod bench;
 mod calibration;
 mod candidates;
 #[cfg(target_arch = "x86_64")]
@@ -46,9 +45,9 @@ pub use error::MatchError;
 pub use evaluation::{Evaluation, MethodReport, RowAnswer};
 pub use fit::{OkRule, Verdict, pair_residuals, unseen_share};
 pub use hungarian::{Hungarian, hungarian_max};
-pub use methods::{
-    ClipperParams, Method, RigidParams, SolveOptions, rigid_assignment_under, solve, solve_with,
-};
+#[cfg(feature = "research")]
+pub use methods::rigid_assignment_under;
+pub use methods::{ClipperParams, Method, RigidParams, SolveOptions, solve, solve_with};
 pub use metrics::{SceneScore, Stat, Summary, score_scene};
 pub use pair_kernel::PairAffinity;
 pub use params::{LiveParams, PaperParams, Params, RrwmParams, SmParams};
