@@ -29,7 +29,6 @@ mod metrics;
 mod pair_kernel;
 mod params;
 mod problem;
-mod rigid;
 mod sinkhorn;
 mod solution;
 mod spatial;
@@ -47,12 +46,14 @@ pub use fit::{OkRule, Verdict, pair_residuals, unseen_share};
 pub use hungarian::{Hungarian, hungarian_max};
 #[cfg(feature = "research")]
 pub use methods::rigid_assignment_under;
-pub use methods::{ClipperParams, Method, RigidParams, SolveOptions, solve, solve_with};
+pub use methods::{
+    ClipperParams, Method, RigidMotion, RigidParams, SolveOptions, median_spacing, solve,
+    solve_with,
+};
 pub use metrics::{SceneScore, Stat, Summary, score_scene};
 pub use pair_kernel::PairAffinity;
 pub use params::{LiveParams, PaperParams, Params, RrwmParams, SmParams};
 pub use problem::{Problem, position_variance};
-pub use rigid::{RigidMotion, median_spacing};
 pub use sinkhorn::{Sinkhorn, sinkhorn_slack};
 pub use solution::Solution;
 pub use spatial::SpatialAffinity;

@@ -8,6 +8,7 @@
 
 mod coincidence;
 mod costs;
+mod motion;
 mod noise;
 mod params;
 mod search;
@@ -15,10 +16,10 @@ mod side;
 mod significance;
 mod track;
 
-use crate::rigid::{RigidMotion, median_spacing};
 use crate::{Params, Problem, Solution, hungarian_max};
 
 use costs::Costs;
+pub use motion::{RigidMotion, median_spacing};
 pub use params::RigidParams;
 use search::{chance_inliers, explained, largest_score, rescore, score_of, search};
 pub(crate) use track::Track;
