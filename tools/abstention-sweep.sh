@@ -5,7 +5,7 @@
 #   bash tools/abstention-sweep.sh [SHARES] [MOTIONS]
 #   e.g. bash tools/abstention-sweep.sh "0.65 0.8 0.9" "0.95 1"
 #
-# Needs `cargo build --release -p vref --bins --examples` and
+# Needs `cargo build --release -p vref -p vref-research --bins --examples` and
 # `bash tools/carryover-data.sh` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -13,7 +13,7 @@
 # The BOP files are taken from ${VREF_BOP_DIR:-../data} (bop-table.jsonl,
 # bop-floor.jsonl: the perception front end's import of the rendered
 # scenes) when they are there.
-# Needs `cargo build --release -p vref --bins --examples` first.
+# Needs `cargo build --release -p vref -p vref-research --bins --examples` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . tools/need-vref.sh

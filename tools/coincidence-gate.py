@@ -2,8 +2,8 @@
 """How the coincidence rule of `rigid` was chosen (docs/method.md,
 "Coincidence"). Reads answer files written with the rule off:
 
-    DIAG_NOGATE=1 DIAG_PERSEED=1 DIAG_OUT=DIR \\
-        cargo test --release -p vref-sim --test rigid_answers -- --ignored diag
+    cargo run --release -p vref-research --example rigid_answers -- \\
+        --no-gate --per-seed DIR
 
 (real training sets as NAME.jsonl, one per sim seed; unrelated views as
 null-*.jsonl). A motion is taken as chance when its evidence,

@@ -11,7 +11,7 @@
 #
 # An argument sets `[matching.rigid]` settings for the run, as
 # tools/rigid-train.sh's does.
-# Needs `cargo build --release -p vref --bins --examples` first.
+# Needs `cargo build --release -p vref -p vref-research --bins --examples` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . tools/need-vref.sh

@@ -8,7 +8,7 @@
 #   docs/results/method-bop.json       rendered scenes 000006-000011, table (0.01), floor (0.1)
 #   docs/results/coincidence.json      rigid on unrelated views made from reporting files
 # beta is each family's spatial bandwidth (external PROVENANCE.md); rigid
-# does not use it. Needs `cargo build --release -p vref --bins --examples` and
+# does not use it. Needs `cargo build --release -p vref -p vref-research --bins --examples` and
 # `bash tools/carryover-data.sh` first. Only reporting files are read.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -5,6 +5,6 @@
 # not change what is measured).
 vref=${VREF_BIN:-target/release/vref}
 [ -x "$vref" ] || {
-  echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref --bins --examples" >&2
+  echo "$(basename "$0"): $vref is not built; run: cargo build --release -p vref -p vref-research --bins --examples" >&2
   exit 2
 }

@@ -49,7 +49,7 @@ fi
 
 step "building (release)"
 cargo build --release --locked --workspace -q
-cargo build --release --locked -p vref --examples -q
+cargo build --release --locked -p vref-research --examples -q
 
 python3 - "$mode" > "$out/run.json" <<'PY'
 import json, os, subprocess, sys, time

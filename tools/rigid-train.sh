@@ -8,7 +8,7 @@
 #
 #   bash tools/rigid-train.sh 'noise_prior = 4.5\nunmatched_cost = 5.0'
 #
-# Needs `cargo build --release -p vref --bins --examples` and
+# Needs `cargo build --release -p vref -p vref-research --bins --examples` and
 # `bash tools/carryover-data.sh` first (files in ${VREF_CARRY_DIR:-target/carry};
 # the BOP families are left out when their training files are not there).
 set -euo pipefail

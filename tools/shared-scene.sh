@@ -14,7 +14,7 @@
 #
 #   bash tools/carryover-data.sh && bash tools/shared-scene.sh
 #
-# Needs `cargo build --release -p vref --bins --examples` first, and numpy
+# Needs `cargo build --release -p vref -p vref-research --bins --examples` first, and numpy
 # (the test venv has it: PYTHON=target/python-venv/bin/python).
 set -euo pipefail
 cd "$(dirname "$0")/.."

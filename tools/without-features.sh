@@ -7,7 +7,7 @@
 #
 #   bash tools/carryover-data.sh && bash tools/without-features.sh
 #
-# Needs `cargo build --release -p vref --bins --examples` first.
+# Needs `cargo build --release -p vref -p vref-research --bins --examples` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . tools/need-vref.sh

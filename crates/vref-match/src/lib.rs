@@ -12,7 +12,6 @@
 //! objects).
 
 mod appearance;
-pub mod bench;
 mod calibration;
 mod candidates;
 #[cfg(target_arch = "x86_64")]
@@ -30,7 +29,6 @@ mod metrics;
 mod pair_kernel;
 mod params;
 mod problem;
-mod rigid;
 mod sinkhorn;
 mod solution;
 mod spatial;
@@ -46,14 +44,16 @@ pub use error::MatchError;
 pub use evaluation::{Evaluation, MethodReport, RowAnswer};
 pub use fit::{OkRule, Verdict, pair_residuals, unseen_share};
 pub use hungarian::{Hungarian, hungarian_max};
+#[cfg(feature = "research")]
+pub use methods::rigid_assignment_under;
 pub use methods::{
-    ClipperParams, Method, RigidParams, SolveOptions, rigid_assignment_under, solve, solve_with,
+    ClipperParams, Method, RigidMotion, RigidParams, SolveOptions, median_spacing, solve,
+    solve_with,
 };
 pub use metrics::{SceneScore, Stat, Summary, score_scene};
 pub use pair_kernel::PairAffinity;
 pub use params::{LiveParams, PaperParams, Params, RrwmParams, SmParams};
 pub use problem::{Problem, position_variance};
-pub use rigid::{RigidMotion, median_spacing};
 pub use sinkhorn::{Sinkhorn, sinkhorn_slack};
 pub use solution::Solution;
 pub use spatial::SpatialAffinity;

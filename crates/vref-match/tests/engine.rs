@@ -3,10 +3,10 @@
 //! The incremental engine: answers equal to a fresh solve (exact tier),
 //! updates by track id, and the live tier's shortcuts.
 
-use vref_match::bench::RigidScene;
 use vref_match::engine::{Change, Engine};
 use vref_match::{MatchError, Method, Params, Problem, Solution, Tier, solve};
 use vref_scene::{Limits, SceneGraph, SceneObject, Side};
+use vref_sim::RigidScene;
 
 fn fresh(human: &SceneGraph, robot: &SceneGraph, method: Method) -> Solution {
     let problem = Problem::new(human, robot, Params::default().beta).unwrap();

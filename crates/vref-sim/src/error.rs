@@ -1,4 +1,4 @@
-use vref_scene::PairError;
+use vref_scene::{GraphError, PairError};
 
 /// A configuration the generator cannot run with. Names the offending
 /// field by its path in the configuration, e.g. `classes[2].instances`.
@@ -65,4 +65,17 @@ pub enum SweepError {
         #[source]
         source: vref_match::MatchError,
     },
+}
+
+/// Why a rigid scene (the solver benchmark's) could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RigidSceneError {
+    #[error("a benchmark scene needs at least 2 objects, got {0}")]
+    TooFewObjects(usize),
+    #[error("position noise must be finite and at least 0 metres, got {0}")]
+    BadNoise(f64),
+    #[error("building a synthetic scene: {0}")]
+    Scene(#[from] GraphError),
+    #[error("building a synthetic scene pair: {0}")]
+    Pair(#[from] PairError),
 }

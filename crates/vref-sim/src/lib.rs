@@ -31,6 +31,10 @@
 //!    sorted by id; the ground truth pairs exactly the objects both views
 //!    detected.
 //!
+//! [`RigidScene`]s are simpler: exactly `n` objects, all seen by both
+//! views, the robot's a rigid motion of the human's plus noise; they are
+//! what `vref bench solver` times.
+//!
 //! [`Sweep`] runs the matchers of `vref-match` over scenes generated with
 //! one family of noise knobs scaled ([`NoiseSweep`]): accuracy against
 //! noise.
@@ -57,6 +61,7 @@ mod measurement;
 mod motion;
 mod presets;
 mod random;
+mod rigid_scene;
 mod sensor;
 mod shape;
 mod staging;
@@ -71,10 +76,11 @@ pub use config::{
     SimConfig, ViewpointSpec, WorkspaceSpec,
 };
 pub use dynamics::Dynamics;
-pub use error::{ConfigError, SceneError, SweepError};
+pub use error::{ConfigError, RigidSceneError, SceneError, SweepError};
 pub use generator::{GeneratedScene, Generator, Sighting, View};
 pub use live::{Gesture, LiveObject, LiveView, LiveWorld};
 pub use presets::{Preset, moi, mrc};
+pub use rigid_scene::RigidScene;
 pub use shape::Shape;
 pub use sweep::{DEFAULT_LEVELS, NoiseSweep, Sweep, SweepPoint, accuracy_curves};
 pub use world::WorldObject;

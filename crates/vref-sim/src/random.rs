@@ -5,7 +5,7 @@
 
 use std::f64::consts::TAU;
 
-use rand::{Rng, SeedableRng};
+use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// A standard normal value (Box-Muller, one of the pair).
@@ -55,9 +55,40 @@ pub(crate) fn keyed(seed: u64, purpose: Purpose, key: u64, index: u64) -> ChaCha
     rng
 }
 
+/// SplitMix64, the stream of the rigid scenes (`rigid_scene`), which must
+/// draw exactly as they always have; a [`RngCore`] so that the helpers
+/// above draw from it as from ChaCha8.
+#[derive(Debug, Clone)]
+pub(crate) struct SplitMix(u64);
+
+impl SplitMix {
+    pub(crate) fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+}
+
+impl RngCore for SplitMix {
+    fn next_u64(&mut self) -> u64 {
+        let out = mix(self.0);
+        self.0 = self.0.wrapping_add(GAMMA);
+        out
+    }
+
+    fn next_u32(&mut self) -> u32 {
+        (self.next_u64() >> 32) as u32
+    }
+
+    fn fill_bytes(&mut self, dst: &mut [u8]) {
+        rand::rand_core::impls::fill_bytes_via_next(self, dst);
+    }
+}
+
+/// splitmix64's increment.
+const GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
+
 /// splitmix64's finaliser: nearby inputs give unrelated outputs.
 fn mix(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = x.wrapping_add(GAMMA);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)

@@ -1,11 +1,11 @@
 //! `vref bench solver`: prints solver timings measured by
-//! `vref_match::bench`.
+//! [`crate::bench_solver`].
 
 use anyhow::{Context, anyhow};
 use vref_config::Config;
-use vref_match::bench::{Mode, Scenes, Timing, time_solver};
 use vref_match::{Method, Tier};
 
+use crate::bench_solver::{Mode, Scenes, Timing, time_solver};
 use crate::cli::BenchSolverArgs;
 use crate::failure::{Blame, Failure};
 use crate::stdout;
@@ -109,7 +109,7 @@ mod tests {
             tiers,
             repeats: 1,
             seed: 1,
-            noise: vref_match::bench::POSITION_NOISE,
+            noise: vref_sim::RigidScene::POSITION_NOISE,
             json: true,
             config: None,
             up_vectors: false,

@@ -1013,7 +1013,7 @@ pub struct BenchSolverArgs {
     /// metres. The default's scenes are settled by the first right motion;
     /// noise near the objects' spacing (about 0.02 at 64 objects) makes
     /// `rigid` run its whole search.
-    #[arg(long, value_name = "METRES", default_value_t = vref_match::bench::POSITION_NOISE)]
+    #[arg(long, value_name = "METRES", default_value_t = vref_sim::RigidScene::POSITION_NOISE)]
     pub noise: f64,
     /// Both views carry their up vectors (exact: the motion turns the
     /// human view's up into the robot's), as `rigid` uses them.

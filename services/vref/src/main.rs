@@ -13,6 +13,7 @@ mod bench_query;
 mod bench_remote;
 mod bench_ros2;
 mod bench_segment;
+mod bench_solver;
 mod cli;
 mod config_cmd;
 mod demo;

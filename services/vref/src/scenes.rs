@@ -4,9 +4,8 @@ use std::io::{BufWriter, ErrorKind, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
-use vref_match::bench::RigidScene;
 use vref_scene::{DatasetWriter, ScenePair};
-use vref_sim::{Generator, Preset};
+use vref_sim::{Generator, Preset, RigidScene};
 
 use crate::cli::ScenesArgs;
 use crate::failure::{Blame, Failure};

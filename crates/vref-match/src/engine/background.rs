@@ -6,7 +6,7 @@
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
-use super::rigid_live::SceneIds;
+use super::resume::SceneIds;
 use crate::methods::{RigidTrack, rigid_solve_from};
 use crate::{Params, Problem};
 

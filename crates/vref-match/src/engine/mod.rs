@@ -5,14 +5,14 @@
 //! last solution.
 
 mod background;
-mod rigid_live;
+mod resume;
 mod view;
 
 use std::collections::HashMap;
 
 use vref_scene::{SceneGraph, Side};
 
-use rigid_live::RigidLive;
+use resume::Resumer;
 pub use view::Change;
 use view::View;
 
@@ -52,7 +52,7 @@ pub struct Engine {
     /// Whether the views changed since the last solve.
     dirty: bool,
     /// `rigid`, live tier: what one solve carries to the next.
-    rigid: RigidLive,
+    rigid: Resumer,
 }
 
 impl Engine {
@@ -71,7 +71,7 @@ impl Engine {
             solved: None,
             candidates_from: Vec::new(),
             dirty: true,
-            rigid: RigidLive::default(),
+            rigid: Resumer::default(),
         })
     }
 
@@ -232,7 +232,7 @@ impl Engine {
         // `rigid` and `clipper` never multiply by S and have no iterations
         // to stop early or warm-start: the live tier's shortcuts would only
         // prune their candidates, so they solve the exact tier's problem
-        // (`rigid`'s own live shortcut is in `rigid_live`).
+        // (`rigid`'s own live shortcut is in `resume`).
         let tier = if matches!(self.method, Method::Rigid | Method::Clipper) {
             Tier::Exact
         } else {

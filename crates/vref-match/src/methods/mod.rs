@@ -15,7 +15,9 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use clipper::ClipperParams;
-pub use rigid::{RigidParams, assignment_under as rigid_assignment_under};
+#[cfg(feature = "research")]
+pub use rigid::assignment_under as rigid_assignment_under;
+pub use rigid::{RigidMotion, RigidParams, median_spacing};
 pub(crate) use rigid::{Track as RigidTrack, solve_from as rigid_solve_from};
 
 use crate::{MatchError, Params, Problem, Solution, hungarian_max};

@@ -6,7 +6,7 @@ use nalgebra::Point3;
 
 use super::RigidParams;
 use crate::Problem;
-use crate::rigid::RigidMotion;
+use crate::RigidMotion;
 
 /// How far below a pair's cost its bound in [`Costs::cheapest_two`] is
 /// kept, so that rounding never lifts the bound above the cost.
@@ -837,9 +837,9 @@ mod tests {
     use nalgebra::Point3;
 
     use super::{Costs, Rays, RowScratch};
+    use crate::RigidMotion;
     use crate::methods::rigid::RigidParams;
     use crate::methods::rigid::search::SplitMix;
-    use crate::rigid::RigidMotion;
 
     /// The Sherman-Morrison form against the covariance inverted outright.
     #[test]

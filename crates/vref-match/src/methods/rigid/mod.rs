@@ -8,6 +8,7 @@
 
 mod coincidence;
 mod costs;
+mod motion;
 mod noise;
 mod params;
 mod search;
@@ -15,10 +16,10 @@ mod side;
 mod significance;
 mod track;
 
-use crate::rigid::{RigidMotion, median_spacing};
 use crate::{Params, Problem, Solution, hungarian_max};
 
 use costs::Costs;
+pub use motion::{RigidMotion, median_spacing};
 pub use params::RigidParams;
 use search::{chance_inliers, explained, largest_score, rescore, score_of, search};
 pub(crate) use track::Track;
@@ -432,8 +433,9 @@ fn row_shares(cost: &[f64], n: usize, m: usize, unmatched: f64) -> (Vec<f64>, Ve
 /// then the assignment with "no partner" (no re-fit, no abstention). Each
 /// row `i` is costed under `rows[i]` where `rows` is not empty (a motion
 /// per row, e.g. one fitted without that row's own pair). For diagnosis
-/// (`examples/rigid_ceiling.rs`): under the true motion it is what rigid's
-/// costs would answer had the search not erred.
+/// (vref-research's `examples/rigid_ceiling.rs`): under the true motion it
+/// is what rigid's costs would answer had the search not erred.
+#[cfg(feature = "research")]
 pub fn assignment_under(
     problem: &Problem,
     params: &Params,

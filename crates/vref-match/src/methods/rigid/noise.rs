@@ -8,7 +8,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::costs::{Costs, Noise, Rays};
-use crate::rigid::RigidMotion;
+use crate::RigidMotion;
 
 /// Lowest estimate of a scale, as a share of its prior: a handful of pairs
 /// that happen to agree closely must not make the model certain.

@@ -7,7 +7,7 @@ use super::RigidParams;
 use super::costs::{Costs, RowScratch};
 use super::side::Side;
 use crate::Problem;
-use crate::rigid::RigidMotion;
+use crate::RigidMotion;
 
 /// A motion with its score and the pairs its greedy assignment took
 /// (kept so that no motion's pairs are computed twice under one costs).

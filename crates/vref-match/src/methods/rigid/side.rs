@@ -3,7 +3,7 @@
 use nalgebra::Point3;
 
 use crate::Problem;
-use crate::rigid::RigidMotion;
+use crate::RigidMotion;
 
 /// Both cameras look at the objects from the same side of the surface
 /// they stand on (a table top, a floor). When the robot view's objects lie
@@ -128,7 +128,7 @@ impl Above {
             .iter()
             .map(|p| up.dot(&p.coords))
             .fold(f64::INFINITY, f64::min);
-        let slack = crate::rigid::median_spacing(points)?;
+        let slack = crate::median_spacing(points)?;
         (lowest.is_finite() && slack.is_finite()).then_some(Self {
             known,
             up,
@@ -155,7 +155,7 @@ mod tests {
     use nalgebra::{Matrix3, Point3, Vector3};
 
     use super::{Above, Known};
-    use crate::rigid::RigidMotion;
+    use crate::RigidMotion;
 
     /// Objects on a table 1 m in front of the camera, up = -y (OpenCV).
     fn table() -> Vec<Point3<f64>> {

@@ -9,7 +9,7 @@
 use super::RigidParams;
 use super::costs::Costs;
 use super::search::{Found, rescore};
-use crate::rigid::RigidMotion;
+use crate::RigidMotion;
 
 /// A start from the last motions is kept only while its best motion scores
 /// at least this share of what the last full search's best scored: a

@@ -3,13 +3,11 @@
 //! the true one, and the residuals and appearance of the answer against
 //! the true partner.
 //!
-//! `cargo run --release -p vref --example rigid_misses -- FILE.jsonl`
-
-#[path = "support/truth.rs"]
-mod truth;
+//! `cargo run --release -p vref-research --example rigid_misses -- FILE.jsonl`
 
 use anyhow::Context;
 use vref_match::{Method, Params, Problem, RigidMotion, solve};
+use vref_research::truth;
 use vref_scene::{Limits, read_dataset_file};
 
 fn main() -> anyhow::Result<()> {

@@ -5,7 +5,7 @@
 //! (`clouds-N.jsonl`, 20 pairs each, drawn with `SEED`). See
 //! `vref_sim::unrelated`.
 //!
-//! `cargo run --release -p vref --example unrelated -- SEED OUT_DIR FILE.jsonl...`
+//! `cargo run --release -p vref-research --example unrelated -- SEED OUT_DIR FILE.jsonl...`
 
 use std::fs::File;
 use std::io::BufWriter;

@@ -7,15 +7,13 @@
 //! costs would answer had the search not erred; the first is fitted to the
 //! pairs it is judged on and flatters, the second does not.
 //!
-//! `cargo run --release -p vref --example rigid_ceiling -- FILE.jsonl...`
-
-#[path = "support/truth.rs"]
-mod truth;
+//! `cargo run --release -p vref-research --example rigid_ceiling -- FILE.jsonl...`
 
 use anyhow::Context;
 use vref_match::{
     Method, Params, Problem, RigidMotion, rigid_assignment_under, score_scene, solve,
 };
+use vref_research::truth;
 use vref_scene::{Limits, ScenePair, read_dataset_file};
 
 /// Sums of per-scene accuracy and precision.

@@ -7,7 +7,7 @@
 //! does not; the residual columns show how far the views' positions are
 //! from one rigid motion.
 //!
-//! `cargo run --release -p vref --example live_accuracy -- --objects 0,32,64 --method rigid --method paper`
+//! `cargo run --release -p vref-research --example live_accuracy -- --objects 0,32,64 --method rigid --method paper`
 //! (0: the preset's own counts; the configuration is `vref`'s default
 //! lookup, so `VREF_CONFIG` applies).
 //!

@@ -52,7 +52,7 @@ impl SceneIds {
 
 /// What `rigid`'s live solves carry from one to the next.
 #[derive(Debug, Clone, Default)]
-pub(super) struct RigidLive {
+pub(super) struct Resumer {
     /// What the last solve left for the next, and the views its motions
     /// were found in.
     track: Option<RigidTrack>,
@@ -69,7 +69,7 @@ pub(super) struct RigidLive {
     pub(super) begin: Option<fn()>,
 }
 
-impl RigidLive {
+impl Resumer {
     /// Solves `problem`, whose rows and columns stand for `human` and
     /// `robot`.
     pub(super) fn solve(

@@ -5,13 +5,11 @@
 //! surface), how often appearance ranks the true partner first, and how
 //! many objects have no partner. One line per file.
 //!
-//! `cargo run --release -p vref --example error_law -- FILE.jsonl...`
-
-#[path = "support/truth.rs"]
-mod truth;
+//! `cargo run --release -p vref-research --example error_law -- FILE.jsonl...`
 
 use anyhow::Context;
 use vref_match::Problem;
+use vref_research::truth;
 use vref_scene::{Limits, read_dataset_file};
 
 #[derive(Default)]
