@@ -62,7 +62,7 @@ fn wait_ready(client: &mut ReferenceClient, within: Duration) -> Result<(), RunE
             Readiness::Waiting("ok or ambiguous latest-gesture answer".to_owned())
         })
     })
-    .map_err(|e| RunError::NotServing(format!("{e}: is the matcher running with both feeds?")))
+    .map_err(|e| RunError::NotServing(Box::new(e)))
 }
 
 fn measure(client: &mut ReferenceClient, options: &ClientBenchOptions) -> Report {

@@ -77,7 +77,7 @@ pub struct Reports {
 /// publish.
 pub(crate) fn bench_world(config: &Config, objects: usize) -> Result<LiveWorld, RunError> {
     if objects < 2 {
-        return Err(RunError::BadInput("--objects: at least 2".to_owned()));
+        return Err(RunError::TooFewObjects);
     }
     Ok(synthetic_world(&config.feeds, Some(objects))?.1)
 }

@@ -83,7 +83,7 @@ pub fn run(
     command.arg("--config").arg(&config_path);
     system.spawn("vref-bridge", command)?;
     let outcome = Echo::start(&echo_endpoint, &echo_prefix)
-        .map_err(|e| RunError::Remote(format!("starting the Zenoh echo: {e}")))
+        .map_err(RunError::Echo)
         .and_then(|_echo| {
             let endpoints = Endpoints {
                 bridge: (&endpoint, &prefix),
@@ -104,7 +104,7 @@ pub fn run(
 /// Two loopback ports free a moment ago, for the bridge and the echo to
 /// listen on; both are held while the second is found, so they differ.
 fn free_ports() -> Result<[u16; 2], RunError> {
-    let io = |e: std::io::Error| RunError::Remote(format!("finding a free loopback port: {e}"));
+    let io = RunError::FreePort;
     let first = std::net::TcpListener::bind("127.0.0.1:0").map_err(io)?;
     let second = std::net::TcpListener::bind("127.0.0.1:0").map_err(io)?;
     Ok([
@@ -269,10 +269,11 @@ fn connect_remote(
             }
         })
     })
-    .map_err(|e| {
-        RunError::Remote(format!(
-            "connecting to the {what} at {endpoint}: {e} ({last})"
-        ))
+    .map_err(|source| RunError::Connect {
+        what: what.to_owned(),
+        endpoint: endpoint.to_owned(),
+        last,
+        source: Box::new(source),
     })
 }
 

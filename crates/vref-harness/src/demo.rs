@@ -15,7 +15,7 @@ use vref_wire::{AnswerStatus, ReferenceAnswer};
 
 use crate::launch::{Isolation, Services, keep_logs_if, prepare};
 use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
-use crate::{Finished, RunError, now_s};
+use crate::{Finished, OutputError, RunError, now_s};
 
 /// One query's time limit.
 const QUERY_TIMEOUT: Duration = Duration::from_secs(1);
@@ -101,7 +101,7 @@ pub fn run(
     options: &DemoOptions,
     config: &Config,
     bin_dir: &Path,
-    on_line: &mut dyn FnMut(&str) -> Result<(), String>,
+    on_line: &mut dyn FnMut(&str) -> Result<(), OutputError>,
 ) -> Result<Finished<Summary>, RunError> {
     let (world, feed_args) = match &options.source {
         SourceSpec::Synthetic => {
@@ -128,9 +128,7 @@ pub fn run(
             (Truth::Bop(world), feed_args)
         }
         other => {
-            return Err(RunError::BadInput(format!(
-                "--source {other:?}: the demo runs on synthetic or bop:DIR"
-            )));
+            return Err(RunError::DemoSource(format!("{other:?}")));
         }
     };
     let Isolation {
@@ -252,7 +250,7 @@ fn query_loop(
     config: &Config,
     world: &Truth,
     services: &mut Services,
-    on_line: &mut dyn FnMut(&str) -> Result<(), String>,
+    on_line: &mut dyn FnMut(&str) -> Result<(), OutputError>,
 ) -> Result<Summary, RunError> {
     let mut client =
         ReferenceClient::connect(&config.ipc, &format!("vref-demo-{}", std::process::id()))?;

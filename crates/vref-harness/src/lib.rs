@@ -37,9 +37,16 @@ use vref_wire::ipc::IpcError;
 /// Why a runner (demo, soak, query benchmark) did not give a report.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
-    /// The caller's input: options, configuration, data.
-    #[error("{0}")]
-    BadInput(String),
+    /// A feed's setup (a world, a data set): the caller's input.
+    #[error(transparent)]
+    Setup(#[from] vref_feed::SetupError),
+    /// `vref demo --source` names neither the synthetic world nor a BOP
+    /// folder.
+    #[error("--source {0}: the demo runs on synthetic or bop:DIR")]
+    DemoSource(String),
+    /// `vref bench query --objects` below two.
+    #[error("--objects: at least 2")]
+    TooFewObjects,
     #[error(transparent)]
     Launch(#[from] launch::LaunchError),
     #[error(transparent)]
@@ -56,38 +63,39 @@ pub enum RunError {
     #[error("the matcher published no statistics within {0:?}")]
     NoStats(std::time::Duration),
     /// No matcher answered as the run needs (`vref bench client`).
-    #[error("{0}")]
-    NotServing(String),
-    /// The Zenoh side of `vref bench remote`: no port, no session.
-    #[error("{0}")]
-    Remote(String),
+    #[error("no answer as the run needs (is the matcher running with both feeds?)")]
+    NotServing(#[source] Box<ready::ReadyError>),
+    /// `vref bench remote`: the Zenoh echo did not start.
+    #[error("starting the Zenoh echo")]
+    Echo(#[source] vref_bridge::NetError),
+    /// `vref bench remote`: no loopback port to listen on.
+    #[error("finding a free loopback port")]
+    FreePort(#[source] std::io::Error),
+    /// `vref bench remote`: no session with the bridge or the echo.
+    #[error("connecting to the {what} at {endpoint} (last error: {last})")]
+    Connect {
+        what: String,
+        endpoint: String,
+        last: String,
+        #[source]
+        source: Box<ready::ReadyError>,
+    },
     /// The caller's output callback failed (e.g. stdout closed).
-    #[error("{0}")]
-    Output(String),
+    #[error("writing the run's output")]
+    Output(#[source] OutputError),
 }
 
-/// A feed's setup error (a world, a data set) is the caller's input; its
-/// text is the error and every source under it, since a setup error's own
-/// message names only what it was reading.
-impl From<vref_feed::SetupError> for RunError {
-    fn from(error: vref_feed::SetupError) -> Self {
-        use std::error::Error as _;
-        let mut text = error.to_string();
-        let mut source = error.source();
-        while let Some(e) = source {
-            text.push_str(": ");
-            text.push_str(&e.to_string());
-            source = e.source();
-        }
-        RunError::BadInput(text)
-    }
-}
+/// Why the caller's output callback failed.
+pub type OutputError = Box<dyn std::error::Error + Send + Sync>;
 
 impl RunError {
     /// Whether the caller asked wrong (exit 2 for the command line), not
     /// the run broke (exit 1).
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, RunError::BadInput(_))
+        matches!(
+            self,
+            RunError::Setup(_) | RunError::DemoSource(_) | RunError::TooFewObjects
+        )
     }
 }
 

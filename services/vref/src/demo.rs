@@ -22,7 +22,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
         if json {
             Ok(())
         } else {
-            stdout::print(line).map_err(|f| format!("{:#}", f.error()))
+            stdout::print(line).map_err(|f| f.into_error().into())
         }
     };
     let finished = demo::run(&options, &config, &harness::bin_dir()?, &mut on_line)

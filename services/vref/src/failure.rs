@@ -21,6 +21,12 @@ impl Failure {
         }
     }
 
+    pub fn into_error(self) -> anyhow::Error {
+        match self {
+            Failure::BadInput(e) | Failure::Runtime(e) | Failure::Outcome(_, e) => e,
+        }
+    }
+
     pub fn exit_code(&self) -> ExitCode {
         match self {
             Failure::BadInput(_) => ExitCode::from(2),
