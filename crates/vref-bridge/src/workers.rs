@@ -38,7 +38,7 @@ impl Workers {
                         name,
                         source: Box::new(e),
                     };
-                    tracing::error!("{}", chain(&e));
+                    tracing::error!("{}", vref_logging::with_causes(&e));
                     e
                 }
                 Err(_) => BridgeError::Panicked { name },
@@ -47,18 +47,6 @@ impl Workers {
         }
         first
     }
-}
-
-/// An error and its causes on one line, as the binaries print them.
-fn chain(e: &dyn std::error::Error) -> String {
-    let mut text = e.to_string();
-    let mut source = e.source();
-    while let Some(cause) = source {
-        text.push_str(": ");
-        text.push_str(&cause.to_string());
-        source = cause.source();
-    }
-    text
 }
 
 #[cfg(test)]
@@ -129,7 +117,7 @@ mod tests {
             panic!("no failure");
         };
         assert_eq!(
-            chain(&e),
+            vref_logging::with_causes(&e),
             "the failing thread: receiving queries: closed",
             "{e:?}"
         );

@@ -110,7 +110,10 @@ impl BopWorld {
             let dataset = BopDataset::open(&folder, "test").map_err(bop)?;
             let import = BopImport::run(&dataset, &options);
             for (scene, error) in &import.failed {
-                tracing::warn!("BOP scene {scene} left out: {}", with_causes(error));
+                tracing::warn!(
+                    "BOP scene {scene} left out: {}",
+                    vref_logging::with_causes(error)
+                );
             }
             for scene in &import.scenes {
                 let Some(scene_dir) = dataset
@@ -226,17 +229,6 @@ fn offset_ids(
             source,
         }
     })
-}
-
-/// An error and its causes on one line.
-fn with_causes(error: &dyn std::error::Error) -> String {
-    let mut text = error.to_string();
-    let mut source = error.source();
-    while let Some(cause) = source {
-        text = format!("{text}: {cause}");
-        source = cause.source();
-    }
-    text
 }
 
 /// A well-mixed hash of a slot number (SplitMix64's finaliser).

@@ -1,5 +1,6 @@
 //! The log set-up of every vref binary, so that the four of them read
-//! RUST_LOG and write to stderr the same way.
+//! RUST_LOG and write to stderr the same way, and the one-line form of an
+//! error with its causes that log lines and counters carry.
 
 use std::io::IsTerminal;
 
@@ -17,4 +18,32 @@ pub fn init(default_filter: &str) {
         .with_writer(std::io::stderr)
         .with_ansi(std::io::stderr().is_terminal())
         .init();
+}
+
+/// An error and its causes on one line, `error: cause: cause`, as the
+/// binaries print them (anyhow's `{:#}`) and as log lines and counters
+/// carry them.
+pub fn with_causes(error: &dyn std::error::Error) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        text.push_str(": ");
+        text.push_str(&cause.to_string());
+        source = cause.source();
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    #[derive(Debug, thiserror::Error)]
+    #[error("outer")]
+    struct Outer(#[source] std::io::Error);
+
+    #[test]
+    fn every_cause_follows_on_one_line() {
+        let e = Outer(std::io::Error::other("inner"));
+        assert_eq!(super::with_causes(&e), "outer: inner");
+        assert_eq!(super::with_causes(&std::io::Error::other("alone")), "alone");
+    }
 }

@@ -602,9 +602,9 @@ mod tests {
         let e = read(&p).unwrap_err();
         assert_eq!(e.reason(), "encoding");
         assert!(
-            error_text(&e).contains("message 0 on /c: encoding \"rgba8\""),
+            vref_logging::with_causes(&e).contains("message 0 on /c: encoding \"rgba8\""),
             "{}",
-            error_text(&e)
+            vref_logging::with_causes(&e)
         );
     }
 
@@ -630,16 +630,5 @@ mod tests {
             }
             other => panic!("{other}"),
         }
-    }
-
-    fn error_text(e: &dyn std::error::Error) -> String {
-        let mut text = e.to_string();
-        let mut source = e.source();
-        while let Some(s) = source {
-            text.push_str(": ");
-            text.push_str(&s.to_string());
-            source = s.source();
-        }
-        text
     }
 }

@@ -262,7 +262,7 @@ impl Camera {
                         up: None,
                     });
                 }
-                Err(e) => counts.skip(frame_key, e.reason(), &error_chain(&e)),
+                Err(e) => counts.skip(frame_key, e.reason(), &vref_logging::with_causes(&e)),
             }
         }
         counts.unpaired = counts.unpaired.max(self.pairer.unpaired);
@@ -676,18 +676,6 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
     }
     counts.log("vref-ros2 stopped");
     Ok(counts)
-}
-
-/// An error and its causes on one line.
-fn error_chain(e: &dyn std::error::Error) -> String {
-    let mut text = e.to_string();
-    let mut source = e.source();
-    while let Some(s) = source {
-        text.push_str(": ");
-        text.push_str(&s.to_string());
-        source = s.source();
-    }
-    text
 }
 
 fn ask(client: &mut ReferenceClient, timeout: Duration) -> Result<Asked, IpcError> {
