@@ -37,7 +37,7 @@ const SUMMARY_EVERY: Duration = Duration::from_secs(10);
 
 /// Why vref-ros2 could not start or stopped.
 #[derive(Debug, thiserror::Error)]
-pub enum BridgeError {
+pub enum Ros2Error {
     #[error("[ros2] {0}")]
     Settings(String),
     #[error("ROS 2 name {name:?}: {message}")]
@@ -48,24 +48,24 @@ pub enum BridgeError {
     Ipc(#[from] IpcError),
 }
 
-impl BridgeError {
+impl Ros2Error {
     /// The configuration was wrong, rather than something failing while
     /// running.
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, BridgeError::Settings(_) | BridgeError::Name { .. })
+        matches!(self, Ros2Error::Settings(_) | Ros2Error::Name { .. })
     }
 }
 
-fn ros(what: impl Into<String>) -> impl FnOnce(&dyn std::fmt::Debug) -> BridgeError {
+fn ros(what: impl Into<String>) -> impl FnOnce(&dyn std::fmt::Debug) -> Ros2Error {
     let what = what.into();
-    move |e| BridgeError::Ros {
+    move |e| Ros2Error::Ros {
         what,
         message: format!("{e:?}"),
     }
 }
 
-fn name(full: &str) -> Result<Name, BridgeError> {
-    Name::parse(full).map_err(|e| BridgeError::Name {
+fn name(full: &str) -> Result<Name, Ros2Error> {
+    Name::parse(full).map_err(|e| Ros2Error::Name {
         name: full.to_owned(),
         message: format!("{e:?}"),
     })
@@ -154,7 +154,7 @@ fn key(side: Side, stream: &'static str) -> &'static str {
 impl Camera {
     /// Takes every waiting message, and publishes each frame that pairs up;
     /// the objects of the last one published, if any.
-    fn drain(&mut self, counts: &mut Counts, max: ImageLimit) -> Result<Option<View>, BridgeError> {
+    fn drain(&mut self, counts: &mut Counts, max: ImageLimit) -> Result<Option<View>, Ros2Error> {
         let side = self.side;
         let info_key = key(side, Stream::CameraInfo.name());
         loop {
@@ -310,7 +310,7 @@ struct Asker {
 }
 
 impl Asker {
-    fn start(ipc: &IpcSettings, period: Duration, timeout: Duration) -> Result<Self, BridgeError> {
+    fn start(ipc: &IpcSettings, period: Duration, timeout: Duration) -> Result<Self, Ros2Error> {
         let (requests, wanted) = mpsc::channel::<RmwRequestId>();
         let (done, answers) = mpsc::channel();
         let (ready_tx, ready) = mpsc::channel();
@@ -349,9 +349,9 @@ impl Asker {
             .map_err(|e| ros("asking thread")(&e))?;
         match ready.recv() {
             Ok(Ok(())) => {}
-            Ok(Err(e)) => return Err(BridgeError::Ipc(e)),
+            Ok(Err(e)) => return Err(Ros2Error::Ipc(e)),
             Err(_) => {
-                return Err(BridgeError::Ros {
+                return Err(Ros2Error::Ros {
                     what: "asking thread".to_owned(),
                     message: "ended before connecting".to_owned(),
                 });
@@ -377,9 +377,9 @@ impl Drop for Asker {
 }
 
 /// Runs until SIGINT or SIGTERM.
-pub fn run(config: &Config) -> Result<Counts, BridgeError> {
+pub fn run(config: &Config) -> Result<Counts, Ros2Error> {
     let s = &config.ros2;
-    let domain = s.effective_domain_id().map_err(BridgeError::Settings)?;
+    let domain = s.effective_domain_id().map_err(Ros2Error::Settings)?;
     let max = config.perception.image_limit();
 
     // iceoryx2 first: its node catches SIGINT/SIGTERM for the whole process.
@@ -391,7 +391,7 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
     let context = Context::with_options(ContextOptions::new().domain_id(domain))
         .map_err(|e| ros("DDS participant")(&e))?;
     let node_name =
-        NodeName::new(&s.node_namespace, &s.node_name).map_err(|e| BridgeError::Name {
+        NodeName::new(&s.node_namespace, &s.node_name).map_err(|e| Ros2Error::Name {
             name: format!("{}/{}", s.node_namespace, s.node_name),
             message: format!("{e:?}"),
         })?;
@@ -405,7 +405,7 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
     // Markers, answers, poses, the service: reliable, latest wins.
     let reliable = QosProfile::publisher_default();
     let mut make_camera = |side: Side, topics: CameraTopics<'_>, frame_id: &str| {
-        let mut image_sub = |topic: &str| -> Result<Subscription<msg::Image>, BridgeError> {
+        let mut image_sub = |topic: &str| -> Result<Subscription<msg::Image>, Ros2Error> {
             let t = ros_node
                 .create_topic(&name(topic)?, msg::image_type(), &sensor)
                 .map_err(|e| ros(format!("topic {topic}"))(&e))?;
@@ -430,7 +430,7 @@ pub fn run(config: &Config) -> Result<Counts, BridgeError> {
             Side::Robot => config.perception.robot(),
             Side::Human => config.perception.human(),
         };
-        Ok::<_, BridgeError>(Camera {
+        Ok::<_, Ros2Error>(Camera {
             side,
             pairer: Pairer::new(tolerance_ns, labels.is_some()),
             colour,

@@ -27,4 +27,4 @@ pub mod pairing;
 pub mod perceive;
 pub mod record;
 
-pub use bridge::{BridgeError, Counts, run};
+pub use bridge::{Counts, Ros2Error, run};
