@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the JSON behind docs/method.md's tables: every method on every
+# Regenerates the JSON behind docs/method-results.md's tables: every method on every
 # reporting set (held out from every choice of constants), one `vref eval
 # --json` line per method and set, and the share of `ok` answers on views
 # with nothing in common.

@@ -25,7 +25,8 @@ pub struct RigidParams {
     /// The same where both views know which way is up: a hypothesis is
     /// then fitted to two pairs, not three, and is all right at the
     /// chance of two right pairs, not three, so fewer are needed for the
-    /// same chance of drawing a right one (docs/method.md, "Gravity").
+    /// same chance of drawing a right one (docs/method.md and
+    /// method-notes.md, "Gravity").
     pub hypotheses_upright: usize,
     /// Residual scale as a multiple of the robot view's median distance
     /// between nearest neighbours: position error and object spacing grow
