@@ -1,6 +1,7 @@
 //! Connected segments of the uncut object pixels, grown back over the
 //! cuts and the objects' feet, the small ones dropped.
 
+use super::merge::{MergeRule, MergeScratch, merge};
 use super::split::jump_limit;
 
 /// Scratch of the labelling, sized to the image once.
@@ -11,6 +12,7 @@ pub(crate) struct Scratch {
     steps: Vec<u8>,
     sizes: Vec<u32>,
     renumber: Vec<u32>,
+    merge: MergeScratch,
 }
 
 impl Scratch {
@@ -28,6 +30,7 @@ impl Scratch {
             + self.steps.capacity()
             + self.sizes.capacity()
             + self.renumber.capacity()
+            + self.merge.capacity()
     }
 }
 
@@ -41,7 +44,7 @@ fn joined(z: &[f32], a: usize, b: usize, rule: &Rule) -> bool {
 }
 
 /// The four neighbours of `i` inside the image.
-fn neighbours(i: usize, width: usize, pixels: usize) -> impl Iterator<Item = usize> {
+pub(crate) fn neighbours(i: usize, width: usize, pixels: usize) -> impl Iterator<Item = usize> {
     let u = i % width;
     [
         (u > 0).then(|| i - 1),
@@ -61,6 +64,8 @@ pub(crate) struct Layers<'a> {
     pub seed: &'a [bool],
     /// High enough above the plane to belong to an object.
     pub grow: &'a [bool],
+    /// Colour, three bytes a pixel (the merge of pieces reads it).
+    pub rgb: &'a [u8],
     pub width: usize,
 }
 
@@ -79,6 +84,7 @@ pub(crate) struct Rule {
     pub tolerance: f32,
     pub grow_height: f32,
     pub fy: f32,
+    pub merge: MergeRule,
 }
 
 impl Rule {
@@ -101,6 +107,7 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
         z,
         seed,
         grow,
+        rgb,
         width,
     } = layers;
     let pixels = z.len();
@@ -110,6 +117,7 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
         steps,
         sizes,
         renumber,
+        merge: merge_scratch,
     } = s;
     labels.fill(0);
     sizes.clear();
@@ -171,6 +179,15 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
             }
         }
     }
+    merge(
+        labels,
+        sizes.len(),
+        rgb,
+        width,
+        rule.merge,
+        |p, q| joined(z, p, q, &rule),
+        merge_scratch,
+    );
     sizes.iter_mut().for_each(|s| *s = 0);
     for &l in labels.iter() {
         sizes[l as usize] += 1;
@@ -211,6 +228,11 @@ mod tests {
             tolerance: 0.01,
             grow_height: 0.003,
             fy: 451.0,
+            merge: MergeRule {
+                colour: 0.0,
+                border: 0.2,
+                max_pixels: 2000,
+            },
         };
         // At 1 m the band (7 mm, 3 px) is narrower than grow_steps.
         assert_eq!(rule.reach(1.0), 8);

@@ -18,6 +18,7 @@
 
 mod components;
 mod masks;
+mod merge;
 mod normals;
 mod overlay;
 mod plane;
@@ -440,6 +441,7 @@ impl Segmenter {
             z: &self.z,
             seed: &self.seed,
             grow: &self.grow,
+            rgb: frame.colour.as_raw(),
             width: w,
         };
         let rule = components::Rule {
@@ -449,6 +451,11 @@ impl Segmenter {
             tolerance,
             grow_height,
             fy: frame.intrinsics.fy() as f32,
+            merge: merge::MergeRule {
+                colour: s.merge_colour as f32,
+                border: s.merge_border as f32,
+                max_pixels: s.merge_max_pixels,
+            },
         };
         components::label(layers, rule, &mut self.components, labels)
     }

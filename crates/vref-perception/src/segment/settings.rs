@@ -66,6 +66,16 @@ pub struct SegmentationSettings {
     /// most this many pixels (more at range: as many as the band between
     /// the seed and growth heights spans in the image).
     pub grow_steps: u32,
+    /// A segment of at most `merge_max_pixels` joins a neighbour that
+    /// holds at least `merge_border` of its outline (across continuous
+    /// depth) when their mean colours differ by less than `merge_colour`
+    /// (mean absolute R, G, B difference): a piece that a crease inside
+    /// one object cut off, not an object of its own. 0 switches it off.
+    pub merge_colour: f64,
+    /// The share of the small segment's outline the neighbour must hold.
+    pub merge_border: f64,
+    /// Larger segments never join another.
+    pub merge_max_pixels: u32,
 }
 
 impl Default for SegmentationSettings {
@@ -89,6 +99,9 @@ impl Default for SegmentationSettings {
             weak_crease: 0.2,
             min_pixels: 200,
             grow_steps: 8,
+            merge_colour: 30.0,
+            merge_border: 0.2,
+            merge_max_pixels: 2000,
         }
     }
 }
@@ -197,6 +210,16 @@ impl SegmentationSettings {
                 self.min_plane_share,
                 "in (0, 1]",
             );
+        }
+        if !(self.merge_colour.is_finite() && self.merge_colour >= 0.0) {
+            return bad(
+                "segmentation.merge_colour",
+                self.merge_colour,
+                "zero (off) or positive and finite",
+            );
+        }
+        if !(self.merge_border.is_finite() && self.merge_border > 0.0 && self.merge_border <= 1.0) {
+            return bad("segmentation.merge_border", self.merge_border, "in (0, 1]");
         }
         for (name, value) in [
             ("segmentation.min_plane_tilt_deg", self.min_plane_tilt_deg),
