@@ -25,6 +25,7 @@ mod plane;
 pub mod score;
 mod settings;
 mod split;
+mod warp;
 
 use image::{ImageBuffer, Luma, RgbImage};
 
@@ -367,8 +368,20 @@ impl Segmenter {
                 let read = z > 0.0;
                 self.read[i] = read;
                 self.height[i] = if read { above } else { 0.0 };
-                self.grow[i] = read && above > grow_height;
             }
+        }
+        let support = warp::Support {
+            z: &self.z,
+            xu: &self.xu,
+            yv: &self.yv,
+            normal: n,
+            tolerance,
+            band: s.support_warp as f32,
+            stride: s.plane_stride.max(1) as usize,
+        };
+        warp::flatten(&support, &mut self.height);
+        for ((grow, &read), &above) in self.grow.iter_mut().zip(&self.read).zip(&self.height) {
+            *grow = read && above > grow_height;
         }
         // A seed is a reading above `min_height` whose height averaged
         // over the 3 x 3 readings around it is above the noise term: a

@@ -76,6 +76,10 @@ pub struct SegmentationSettings {
     pub merge_border: f64,
     /// Larger segments never join another.
     pub merge_max_pixels: u32,
+    /// The support's smooth warp (a depth scale drifting across the image)
+    /// is fitted to the readings within this many `plane_tolerance_m z^2`
+    /// of it and its lift taken off the heights; 0 switches it off.
+    pub support_warp: f64,
 }
 
 impl Default for SegmentationSettings {
@@ -102,6 +106,7 @@ impl Default for SegmentationSettings {
             merge_colour: 30.0,
             merge_border: 0.2,
             merge_max_pixels: 2000,
+            support_warp: 3.0,
         }
     }
 }
@@ -215,6 +220,13 @@ impl SegmentationSettings {
             return bad(
                 "segmentation.merge_colour",
                 self.merge_colour,
+                "zero (off) or positive and finite",
+            );
+        }
+        if !(self.support_warp.is_finite() && self.support_warp >= 0.0) {
+            return bad(
+                "segmentation.support_warp",
+                self.support_warp,
                 "zero (off) or positive and finite",
             );
         }
