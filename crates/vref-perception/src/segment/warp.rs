@@ -134,14 +134,25 @@ pub(crate) fn flatten(s: &Support<'_>, height: &mut [f32]) {
     let Some(c) = fit(s, height) else {
         return;
     };
+    // Row by row, the quadratic is A + B x + C x^2 in the column's x.
     let w = s.width();
-    for v in 0..s.yv.len() {
+    let h = s.yv.len();
+    let dx = 2.0 / w as f64;
+    let n = s.normal;
+    for v in 0..h {
+        let y = 2.0 * v as f64 / h as f64 - 1.0;
+        let (a, b, c2) = (c[0] + c[2] * y + c[5] * y * y, c[1] + c[4] * y, c[3]);
+        let ray_y = n[1] * s.yv[v] + n[2];
+        let row = v * w;
         for u in 0..w {
-            let i = v * w + u;
-            if s.z[i] > 0.0 {
-                let lift = dot(&s.terms(u, v), &c).max(0.0);
-                height[i] -= lift as f32;
+            let z = s.z[row + u];
+            if z <= 0.0 {
+                continue;
             }
+            let x = u as f64 * dx - 1.0;
+            let per_depth = f64::from(z * (n[0] * s.xu[u] + ray_y));
+            let lift = (per_depth * (a + x * (b + x * c2))).max(0.0);
+            height[row + u] -= lift as f32;
         }
     }
 }
