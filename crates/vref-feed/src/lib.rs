@@ -48,4 +48,4 @@ pub use publication::{Due, Publication, Ray, Target};
 pub use rgbd::RgbdSummary;
 pub use role::Role;
 pub use service::{FeedError, run_feed, run_feed_with};
-pub use synthetic::{synthetic_world, with_room_for};
+pub use synthetic::synthetic_world;

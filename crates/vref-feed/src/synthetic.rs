@@ -34,7 +34,7 @@ pub fn synthetic_world(
 /// stand as densely as in the preset and both cameras see the workspace
 /// under the same angles. Benchmarks at 32 to 128 objects need this; up
 /// to the preset's own maximum the world is the preset's.
-pub fn with_room_for(mut config: SimConfig, objects: Option<usize>) -> SimConfig {
+pub(crate) fn with_room_for(mut config: SimConfig, objects: Option<usize>) -> SimConfig {
     let Some(n) = objects else {
         return config;
     };
@@ -156,5 +156,31 @@ impl Synthetic {
                 },
             });
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::with_room_for;
+    use vref_sim::Preset;
+
+    #[test]
+    fn a_preset_sized_world_is_the_presets() {
+        let moi = Preset::Moi.config();
+        assert_eq!(with_room_for(moi.clone(), None), moi);
+        assert_eq!(with_room_for(moi.clone(), Some(8)), moi);
+    }
+
+    #[test]
+    fn a_crowded_world_grows_with_its_cameras() {
+        let moi = Preset::Moi.config();
+        let big = with_room_for(moi.clone(), Some(64));
+        assert!(big.workspace.area[0] > 2.0 * moi.workspace.area[0]);
+        let ratio = big.robot.distance[1] / moi.robot.distance[1];
+        let area_ratio = big.workspace.area[1] / moi.workspace.area[1];
+        assert!(
+            (ratio - area_ratio).abs() < 1e-9,
+            "cameras scale with the area"
+        );
     }
 }

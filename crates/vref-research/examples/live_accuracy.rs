@@ -2,7 +2,7 @@
 //! `vref demo`, `vref soak` and `vref bench query` run), scored against its
 //! truth: 40 moments 1.7 s apart, both views measured at the same moment.
 //! With `--objects` above the preset's own counts the world is scaled up as
-//! the feeds scale it (`vref_feed::with_room_for`): the cameras stand
+//! the feeds scale it (`vref_feed::synthetic_world`): the cameras stand
 //! farther away, so their position error grows while the objects' spacing
 //! does not; the residual columns show how far the views' positions are
 //! from one rigid motion.
