@@ -5,8 +5,6 @@
 //! are never asserted (they go in README).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::time::Duration;
 
 use support::processes::Harness;

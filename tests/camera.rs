@@ -4,8 +4,6 @@
 //! and prefix, and every wait on another process is bounded.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 

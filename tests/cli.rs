@@ -2,8 +2,6 @@
 //! exit codes and error messages for bad input.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::path::Path;
 use std::time::Duration;
 
@@ -299,7 +297,7 @@ fn config_check_refuses_a_bad_tier_naming_it_and_so_does_the_matcher() {
         assert!(run.stderr.contains(part), "{part}: {}", run.stderr);
     }
     // The matcher refuses the same file as bad configuration (2), at once.
-    let matcher = std::path::Path::new(env!("CARGO_BIN_EXE_vref")).with_file_name("vref-matcher");
+    let matcher = vref_testkit::binary("vref-matcher");
     let out = std::process::Command::new(matcher)
         .args(["--config", &bad])
         .output()
@@ -312,7 +310,7 @@ fn config_check_refuses_a_bad_tier_naming_it_and_so_does_the_matcher() {
 /// the CLI and the matcher now refuse it at start (2), naming it.
 #[test]
 fn an_unknown_simd_cap_is_refused_naming_it() {
-    let vref = std::path::Path::new(env!("CARGO_BIN_EXE_vref"));
+    let vref = &vref_testkit::binary("vref");
     let config = repo_root().join("config/vref.toml");
     let config = config.to_str().unwrap();
     let run = support::vref_with(
@@ -372,7 +370,7 @@ fn config_check_and_the_matcher_refuse_bad_ipc_settings_and_presets() {
         ),
         ("preset", "[feeds]\npreset = \"nope\"\n".to_owned(), "nope"),
     ];
-    let matcher = Path::new(env!("CARGO_BIN_EXE_vref")).with_file_name("vref-matcher");
+    let matcher = vref_testkit::binary("vref-matcher");
     for (name, text, says) in cases {
         let file = write(dir.path(), &format!("{name}.toml"), &text);
         let run = vref(&["config", "check", &file], LIMIT);
@@ -474,7 +472,7 @@ fn answers_under_cap(
         args.extend(["--method", method]);
     }
     support::vref_with(
-        std::path::Path::new(env!("CARGO_BIN_EXE_vref")),
+        &vref_testkit::binary("vref"),
         &args,
         &[("VREF_SIMD", cap)],
         Duration::from_secs(120),

@@ -5,8 +5,6 @@
 //! and prefix) and runs a group of kinds in turn.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::time::{Duration, Instant};
 
 use support::processes::{Harness, eventually};

@@ -5,8 +5,6 @@
 //! prefix.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::time::Duration;
 
 use nix::sys::signal::Signal;

@@ -8,8 +8,6 @@
 //! `VREF_ROS2_PYTHON`. Every wait on another process is bounded.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;

@@ -3,8 +3,6 @@
 //! root path and prefix (support::processes::Harness).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::time::Duration;
 
 use nix::sys::signal::Signal;

@@ -3,8 +3,6 @@
 //! coming. Each test has its own iceoryx2 root path and prefix.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::thread::JoinHandle;
@@ -355,7 +353,7 @@ fn each_service_killed_during_a_soak_and_restarted_leaves_the_matcher_answering(
 fn a_service_that_stops_at_start_is_named_with_its_reason() {
     let dir = tempfile::tempdir().unwrap();
     let vref = dir.path().join("vref");
-    std::fs::copy(env!("CARGO_BIN_EXE_vref"), &vref).unwrap();
+    std::fs::copy(vref_testkit::binary("vref"), &vref).unwrap();
     for feed in ["vref-perception-feed", "vref-gesture-feed"] {
         std::fs::copy(support::processes::binary(feed), dir.path().join(feed)).unwrap();
     }

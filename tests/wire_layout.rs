@@ -3,8 +3,6 @@
 //! (clients/python/tests/test_layout.py) cannot fall behind the Rust types.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::time::Duration;
 
 use support::{json_lines, repo_root, vref};

@@ -1,6 +1,6 @@
 //! Real service processes for system tests: each harness has its own
 //! iceoryx2 root path and prefix, so tests never see each other.
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -12,17 +12,7 @@ use std::time::{Duration, Instant};
 use nix::sys::signal::{Signal, kill};
 use nix::unistd::Pid;
 
-/// A binary built beside `vref` (cargo test --workspace builds them all).
-pub fn binary(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_BIN_EXE_vref")).parent().unwrap();
-    let path = dir.join(name);
-    assert!(
-        path.exists(),
-        "{} not built: run `cargo test --workspace`",
-        path.display()
-    );
-    path
-}
+pub use vref_testkit::binary;
 
 /// How long one test with a harness may run: 300 s, or
 /// `VREF_TEST_LIMIT_SECS`. Every wait in these tests has its own bound,

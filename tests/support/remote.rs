@@ -1,7 +1,7 @@
 //! A robot with its bridge on a loopback port, and a headset simulator on
 //! the other side of Zenoh, for the remote tests. Every endpoint is on
 //! 127.0.0.1; no session scouts or listens anywhere else.
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -33,6 +33,7 @@ pub fn free_port() -> u16 {
 
 /// One robot: its harness (own iceoryx2 root and prefix), the dataset its
 /// feeds publish, its bridge's endpoint and key prefix.
+#[derive(Debug)]
 pub struct Robot {
     pub h: Harness,
     pub ipc: IpcSettings,
@@ -219,6 +220,7 @@ pub fn ray_at(session: u64, sequence: u64, h: u64) -> PointingRay {
 /// at 30 Hz and, every sixth snapshot, a ray at `points_at`, until
 /// stopped. A burst asked for with [`Headset::burst`] is sent between two
 /// ticks, with the session's own sequence numbers (a headset gone wild).
+#[derive(Debug)]
 pub struct Headset {
     stop: Arc<AtomicBool>,
     burst: Arc<AtomicU64>,
@@ -316,6 +318,7 @@ impl Drop for Headset {
 }
 
 /// The bridge's latest published counters, read from its stats key.
+#[derive(Debug)]
 pub struct BridgeStatsReader {
     subscriber:
         zenoh::pubsub::Subscriber<zenoh::handlers::FifoChannelHandler<zenoh::sample::Sample>>,

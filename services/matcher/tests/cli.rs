@@ -1,6 +1,6 @@
 //! The matcher binary as an operator meets it. (Having an integration test
 //! also makes `cargo test --workspace` build the binary, which the system
-//! tests in the top-level tests/ start.)
+//! tests, package vref-system-tests in tests/, start.)
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::process::{Command, Stdio};

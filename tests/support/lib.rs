@@ -1,6 +1,6 @@
 //! Shared by the system tests: run the real `vref` binary with a time
 //! limit, and find the repository's files and the shared data.
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub mod processes;
 pub mod remote;
@@ -27,10 +27,10 @@ impl Run {
     }
 }
 
-/// The repository root (this file is `tests/support/mod.rs`).
+/// The repository root (this package is `tests/`).
 pub fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
+        .join("..")
         .canonicalize()
         .unwrap()
 }
@@ -51,7 +51,7 @@ pub fn cmu_house_dir() -> PathBuf {
 /// Runs `vref` with `args` and the repository's config, killing it after
 /// `limit` so that a hang fails the test instead of stalling the suite.
 pub fn vref(args: &[&str], limit: Duration) -> Run {
-    vref_at(Path::new(env!("CARGO_BIN_EXE_vref")), args, limit)
+    vref_at(&vref_testkit::binary("vref"), args, limit)
 }
 
 /// Like [`vref`], with the `vref` binary at `program` (a copy beside
