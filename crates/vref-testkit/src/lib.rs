@@ -1,13 +1,13 @@
 //! What vref's tests share: where the data sets that vref did not make
 //! are (`../shared/data` beside the repository, or `VREF_DATA`), so that
 //! no test writes that path itself, and where the service executables
-//! are ([`binary`]).
+//! are ([`binary`], refused when older than their sources).
 
 mod binaries;
 
 use std::path::PathBuf;
 
-pub use binaries::{binary, target_dir};
+pub use binaries::{binary, repo_root, target_dir};
 
 /// The shared data folder: `VREF_DATA` where it is set and not empty,
 /// else `../shared/data` beside the repository.
