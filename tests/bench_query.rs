@@ -7,7 +7,7 @@
 
 use std::time::Duration;
 
-use support::processes::Harness;
+use vref_testkit::Harness;
 
 #[test]
 fn a_short_run_reports_cached_solved_and_bare_round_trips() {

@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use image::{ImageBuffer, Luma};
-use support::processes::{Harness, eventually};
 use support::{json_lines, vref};
+use vref_testkit::{Harness, eventually};
 use vref_wire::AnswerStatus;
 use vref_wire::ipc::ReferenceClient;
 

@@ -5,7 +5,8 @@
 use std::path::Path;
 use std::time::Duration;
 
-use support::{cmu_house_dir, json_lines, repo_root, vref};
+use support::{cmu_house_dir, json_lines, vref};
+use vref_testkit::repo_root;
 
 const LIMIT: Duration = Duration::from_secs(60);
 
@@ -47,7 +48,7 @@ fn every_service_states_its_exit_codes_in_its_help() {
         "vref-gesture-feed",
         "vref-bridge",
     ] {
-        let run = support::vref_at(&support::processes::binary(service), &["--help"], LIMIT).ok();
+        let run = support::vref_at(&vref_testkit::binary(service), &["--help"], LIMIT).ok();
         for code in ["Exit codes: 0", "1 failure while running", "2 bad"] {
             assert!(
                 run.stdout.contains(code),
@@ -383,18 +384,9 @@ fn config_check_and_the_matcher_refuse_bad_ipc_settings_and_presets() {
             .stderr(std::process::Stdio::piped())
             .spawn()
             .unwrap();
-        let deadline = std::time::Instant::now() + Duration::from_secs(10);
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status;
-            }
-            if std::time::Instant::now() > deadline {
-                child.kill().ok();
-                child.wait().ok();
-                panic!("{name}: the matcher ran with the bad configuration");
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        };
+        let status = vref_testkit::exit_within(&mut child, Duration::from_secs(10), || {
+            format!("{name}: the matcher with the bad configuration")
+        });
         let mut stderr = String::new();
         std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
         assert_eq!(status.code(), Some(2), "{name}: {stderr}");

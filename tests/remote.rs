@@ -8,7 +8,6 @@
 use std::time::Duration;
 
 use nix::sys::signal::Signal;
-use support::processes::eventually;
 use support::remote::{
     BridgeStatsReader, Headset, Robot, answer_until, human_object, human_view_binary,
     human_view_json, latest_gesture, ray_at, ray_query,
@@ -16,6 +15,7 @@ use support::remote::{
 use vref_bridge::{Format, Message, binary, json};
 use vref_inject::{robot_id, valid_objects};
 use vref_scene::Side;
+use vref_testkit::eventually;
 use vref_wire::ipc::{ReferenceClient, StatsReader};
 use vref_wire::{AnswerStatus, MatcherStats};
 use zenoh::Wait;
@@ -531,7 +531,7 @@ fn a_bad_bridge_table_is_refused_by_config_check_and_the_bridge() {
         );
         assert_eq!(run.code, Some(2), "{table}");
         assert!(run.stderr.contains(says), "{table}: {}", run.stderr);
-        let out = std::process::Command::new(support::processes::binary("vref-bridge"))
+        let out = std::process::Command::new(vref_testkit::binary("vref-bridge"))
             .arg("--config")
             .arg(&bad)
             .output()

@@ -9,9 +9,9 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use nix::sys::signal::Signal;
-use support::processes::{Harness, eventually};
 use support::table::table_harness;
 use vref_inject::robot_id;
+use vref_testkit::{Harness, eventually};
 use vref_wire::AnswerStatus;
 use vref_wire::ipc::{IpcError, IpcSettings, ReferenceClient, StatsReader};
 
@@ -355,7 +355,7 @@ fn a_service_that_stops_at_start_is_named_with_its_reason() {
     let vref = dir.path().join("vref");
     std::fs::copy(vref_testkit::binary("vref"), &vref).unwrap();
     for feed in ["vref-perception-feed", "vref-gesture-feed"] {
-        std::fs::copy(support::processes::binary(feed), dir.path().join(feed)).unwrap();
+        std::fs::copy(vref_testkit::binary(feed), dir.path().join(feed)).unwrap();
     }
     // A matcher that refuses its configuration, as a matcher of another
     // version would.

@@ -5,7 +5,8 @@
 
 use std::time::Duration;
 
-use support::{json_lines, repo_root, vref};
+use support::{json_lines, vref};
+use vref_testkit::repo_root;
 
 const REGENERATE: &str = "run `vref wire-layout --json > docs/wire-layout.json` \
      (cargo run -p vref -- wire-layout --json > docs/wire-layout.json), then \

@@ -19,17 +19,9 @@ use vref_wire::{
 };
 use zenoh::Wait;
 
-use super::processes::{Harness, eventually};
-use super::table;
+use vref_testkit::{Harness, eventually};
 
-/// A loopback port free a moment ago.
-pub fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-}
+use super::table;
 
 /// One robot: its harness (own iceoryx2 root and prefix), the dataset its
 /// feeds publish, its bridge's endpoint and key prefix.
@@ -47,7 +39,7 @@ impl Robot {
     /// are set here); `robot_offset` shifts the robot's track ids, so
     /// that two robots give different answers.
     pub fn new(tag: &str, bridge: &str, robot_offset: u64) -> Self {
-        let endpoint = format!("tcp/127.0.0.1:{}", free_port());
+        let endpoint = format!("tcp/127.0.0.1:{}", vref_testkit::free_port());
         let prefix = format!("vref/t{}{tag}", std::process::id());
         let extra = format!(
             "[matching]\nbeta = 0.01\n\n[bridge]\nlisten = [\"{endpoint}\"]\nprefix = \"{prefix}\"\n\
@@ -105,9 +97,10 @@ impl Robot {
 
     /// A client session to the bridge, once it accepts connections.
     pub fn session(&self) -> zenoh::Session {
-        eventually(Duration::from_secs(20), "the bridge listening", || {
-            vref_bridge::open_client_session(std::slice::from_ref(&self.endpoint)).ok()
-        })
+        vref_testkit::bridge_session(
+            std::slice::from_ref(&self.endpoint),
+            Duration::from_secs(20),
+        )
     }
 }
 

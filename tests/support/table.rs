@@ -4,9 +4,8 @@
 
 use vref_inject::{VALID_FEATURE_DIM, robot_id, valid_objects};
 use vref_scene::Side;
+use vref_testkit::Harness;
 use vref_wire::ipc::IpcSettings;
-
-use super::processes::Harness;
 
 /// The six-object table of `vref inject --kind valid`, as a dataset line:
 /// each view's objects with their features, and the truth.

@@ -31,11 +31,15 @@ pub fn target_dir() -> PathBuf {
 /// The executable `name` (such as `vref-matcher`) in [`target_dir`],
 /// built from the sources as they are now.
 pub fn binary(name: &str) -> PathBuf {
-    let path = target_dir().join(name);
-    if let Some(problem) = out_of_date(&repo_root(), &path, name) {
-        panic!("{problem}: {BUILD}");
-    }
-    path
+    let dir = target_dir();
+    let problem = match vref_harness::launch::binary(&dir, name) {
+        Ok(path) => match out_of_date(&repo_root(), &path, name) {
+            None => return path,
+            Some(problem) => problem,
+        },
+        Err(_) => format!("{} is missing", shown(&dir.join(name))),
+    };
+    panic!("{problem}: {BUILD}")
 }
 
 /// Why the executable `name` at `path`, built from the workspace at
