@@ -67,11 +67,11 @@ fn a_20_s_soak_at_100_hz_feeds_and_500_hz_queries_loses_nothing() {
         "resident memory grew by {} kB: {s}",
         end - start
     );
-    assert_eq!(s["rss_growth_kb"], end - start, "{s}");
-    let rtt = |k: &str| s[k].as_u64().unwrap();
-    assert!(rtt("rtt_p50_us") <= rtt("rtt_p99_us"), "{s}");
-    assert!(rtt("rtt_p99_us") <= rtt("rtt_p999_us"), "{s}");
-    assert!(rtt("rtt_p999_us") <= rtt("rtt_max_us"), "{s}");
+    // No query timed out, so none took longer than soak's 1 s query
+    // timeout: a bound from outside the figures, where their order is
+    // only the percentile's own.
+    let max = s["rtt_max_us"].as_u64().unwrap();
+    assert!(0 < max && max <= 1_000_000, "{s}");
 }
 
 #[test]
