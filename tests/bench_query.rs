@@ -5,11 +5,9 @@
 //! are never asserted (they go in README).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::time::Duration;
 
-use support::processes::Harness;
+use vref_testkit::Harness;
 
 #[test]
 fn a_short_run_reports_cached_solved_and_bare_round_trips() {
@@ -61,13 +59,14 @@ fn a_short_run_reports_cached_solved_and_bare_round_trips() {
         let value = report[key].as_f64();
         assert!(value.is_some_and(|v| v > 0.0), "{key}: {report}");
     }
+    // No query timed out (below), so no round trip took longer than the
+    // benchmark's 2 s query timeout: a bound from outside the figures,
+    // where their order is only the percentile's own.
     for kind in ["all", "cached", "solve", "bare"] {
         let count = report[format!("{kind}_count")].as_u64().unwrap();
         assert!(count > 0, "no {kind} round trips: {report}");
-        let p50 = report[format!("{kind}_p50_us")].as_f64().unwrap();
-        let p99 = report[format!("{kind}_p99_us")].as_f64().unwrap();
         let p999 = report[format!("{kind}_p999_us")].as_f64().unwrap();
-        assert!(p50 <= p99 && p99 <= p999, "{kind}: {report}");
+        assert!(p999 <= 2e6, "{kind}: {report}");
     }
     let ratio = report["ratio_p99"].as_f64().unwrap();
     let expected =
@@ -139,9 +138,9 @@ fn the_client_bench_measures_a_running_matcher() {
     assert_eq!(report["client"], "rust", "{report}");
     let cached = report["cached_count"].as_u64().unwrap();
     assert!(cached > 0, "no cached answers: {report}");
-    let p50 = report["cached_p50_us"].as_f64().unwrap();
+    // Within the client benchmark's 2 s query timeout (none timed out).
     let p99 = report["cached_p99_us"].as_f64().unwrap();
-    assert!(0.0 < p50 && p50 <= p99, "{report}");
+    assert!(0.0 < p99 && p99 <= 2e6, "{report}");
     assert_eq!(
         (&report["timeouts"], &report["errors"]),
         (&0.into(), &0.into()),

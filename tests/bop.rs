@@ -2,8 +2,6 @@
 //! wrote; a broken scene is skipped with a warning.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::time::Duration;
 
 use support::{json_lines, vref};

@@ -4,14 +4,12 @@
 //! and prefix, and every wait on another process is bounded.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use image::{ImageBuffer, Luma};
-use support::processes::{Harness, eventually};
 use support::{json_lines, vref};
+use vref_testkit::{Harness, eventually};
 use vref_wire::AnswerStatus;
 use vref_wire::ipc::ReferenceClient;
 

@@ -2,12 +2,11 @@
 //! exit codes and error messages for bad input.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::path::Path;
 use std::time::Duration;
 
-use support::{cmu_house_dir, json_lines, repo_root, vref};
+use support::{cmu_house_dir, json_lines, vref};
+use vref_testkit::repo_root;
 
 const LIMIT: Duration = Duration::from_secs(60);
 
@@ -49,7 +48,7 @@ fn every_service_states_its_exit_codes_in_its_help() {
         "vref-gesture-feed",
         "vref-bridge",
     ] {
-        let run = support::vref_at(&support::processes::binary(service), &["--help"], LIMIT).ok();
+        let run = support::vref_at(&vref_testkit::binary(service), &["--help"], LIMIT).ok();
         for code in ["Exit codes: 0", "1 failure while running", "2 bad"] {
             assert!(
                 run.stdout.contains(code),
@@ -299,7 +298,7 @@ fn config_check_refuses_a_bad_tier_naming_it_and_so_does_the_matcher() {
         assert!(run.stderr.contains(part), "{part}: {}", run.stderr);
     }
     // The matcher refuses the same file as bad configuration (2), at once.
-    let matcher = std::path::Path::new(env!("CARGO_BIN_EXE_vref")).with_file_name("vref-matcher");
+    let matcher = vref_testkit::binary("vref-matcher");
     let out = std::process::Command::new(matcher)
         .args(["--config", &bad])
         .output()
@@ -312,7 +311,7 @@ fn config_check_refuses_a_bad_tier_naming_it_and_so_does_the_matcher() {
 /// the CLI and the matcher now refuse it at start (2), naming it.
 #[test]
 fn an_unknown_simd_cap_is_refused_naming_it() {
-    let vref = std::path::Path::new(env!("CARGO_BIN_EXE_vref"));
+    let vref = &vref_testkit::binary("vref");
     let config = repo_root().join("config/vref.toml");
     let config = config.to_str().unwrap();
     let run = support::vref_with(
@@ -372,7 +371,7 @@ fn config_check_and_the_matcher_refuse_bad_ipc_settings_and_presets() {
         ),
         ("preset", "[feeds]\npreset = \"nope\"\n".to_owned(), "nope"),
     ];
-    let matcher = Path::new(env!("CARGO_BIN_EXE_vref")).with_file_name("vref-matcher");
+    let matcher = vref_testkit::binary("vref-matcher");
     for (name, text, says) in cases {
         let file = write(dir.path(), &format!("{name}.toml"), &text);
         let run = vref(&["config", "check", &file], LIMIT);
@@ -385,18 +384,9 @@ fn config_check_and_the_matcher_refuse_bad_ipc_settings_and_presets() {
             .stderr(std::process::Stdio::piped())
             .spawn()
             .unwrap();
-        let deadline = std::time::Instant::now() + Duration::from_secs(10);
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status;
-            }
-            if std::time::Instant::now() > deadline {
-                child.kill().ok();
-                child.wait().ok();
-                panic!("{name}: the matcher ran with the bad configuration");
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        };
+        let status = vref_testkit::exit_within(&mut child, Duration::from_secs(10), || {
+            format!("{name}: the matcher with the bad configuration")
+        });
         let mut stderr = String::new();
         std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
         assert_eq!(status.code(), Some(2), "{name}: {stderr}");
@@ -474,7 +464,7 @@ fn answers_under_cap(
         args.extend(["--method", method]);
     }
     support::vref_with(
-        std::path::Path::new(env!("CARGO_BIN_EXE_vref")),
+        &vref_testkit::binary("vref"),
         &args,
         &[("VREF_SIMD", cap)],
         Duration::from_secs(120),

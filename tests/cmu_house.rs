@@ -4,8 +4,6 @@
 //! 1.0 / 1.0 / .997 mean accuracy at frame gaps 0 / 50 / 90.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::collections::HashMap;
 use std::time::Duration;
 

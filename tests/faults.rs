@@ -5,11 +5,10 @@
 //! and prefix) and runs a group of kinds in turn.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
+use std::time::Duration;
 
-use std::time::{Duration, Instant};
-
-use support::processes::{Harness, eventually};
+use vref_harness::ready::{Readiness, wait_ready};
+use vref_testkit::{Harness, eventually};
 use vref_wire::ReferenceAnswer;
 use vref_wire::ipc::ReferenceClient;
 use vref_wire::{AnswerStatus, ipc::IpcSettings};
@@ -127,14 +126,15 @@ impl Rig {
         inject(&self.h, kind, side, 1);
 
         // (a) The defect is counted under its reason and described.
-        let deadline = Instant::now() + Duration::from_secs(10);
-        while logged(&self.matcher_log()) <= before {
-            assert!(
-                Instant::now() < deadline,
-                "{kind}: no `{tag}` line naming `{defect}` within 10 s:\n{}",
-                self.matcher_log()
-            );
-            std::thread::sleep(Duration::from_millis(50));
+        let counted = wait_ready(Duration::from_secs(10), Duration::from_millis(50), || {
+            Ok(if logged(&self.matcher_log()) > before {
+                Readiness::Ready(())
+            } else {
+                Readiness::Waiting(format!("{kind}: `{tag}` line naming `{defect}`"))
+            })
+        });
+        if let Err(e) = counted {
+            panic!("{e}:\n{}", self.matcher_log());
         }
         // (b) The last good snapshots stay in force. `sequence-backwards`
         // sends a good sequence 10 before going back to 5.

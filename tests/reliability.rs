@@ -6,17 +6,15 @@
 //! Also the suite's own guard: a test that hangs is aborted, named.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
 
 use nix::sys::signal::Signal;
-use support::processes::{Harness, eventually, join_within};
 use support::table::table_harness_with;
 use vref_inject::{HIJACK_RAY_TARGET, robot_id, valid_objects};
 use vref_scene::Side;
+use vref_testkit::{Harness, eventually, join_within};
 use vref_wire::ipc::{
     DecisionReader, GesturePublisher, IpcError, IpcSettings, ReferenceClient, StatsReader,
     create_node, open_reference, open_request_event,
@@ -561,7 +559,7 @@ fn hangs_on_purpose() {
 
 #[test]
 fn a_hung_test_is_aborted_naming_it_and_its_services_killed() {
-    // The suite's guard against a call that never returns (support::processes).
+    // The suite's guard against a call that never returns (vref_testkit::test_limit).
     let this = std::env::current_exe().unwrap();
     let run = support::vref_with(
         &this,

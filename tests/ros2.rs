@@ -8,14 +8,12 @@
 //! `VREF_ROS2_PYTHON`. Every wait on another process is bounded.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use support::processes::{Harness, eventually};
-use support::repo_root;
+use vref_testkit::repo_root;
+use vref_testkit::{Harness, eventually};
 use vref_wire::AnswerStatus;
 use vref_wire::ipc::ReferenceClient;
 

@@ -1,17 +1,15 @@
 //! The services as separate processes over real iceoryx2: matcher,
 //! perception feed, gesture feed, and clients. Each test has its own
-//! root path and prefix (support::processes::Harness).
+//! root path and prefix (vref_testkit::Harness).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-mod support;
 
 use std::time::Duration;
 
 use nix::sys::signal::Signal;
-use support::processes::{Harness, eventually};
 use support::table::table_harness;
 use vref_inject::{robot_id, valid_objects};
 use vref_scene::Side;
+use vref_testkit::{Harness, eventually};
 use vref_wire::ipc::ReferenceClient;
 use vref_wire::{AnswerStatus, ObjectEntry, ReferenceAnswer};
 

@@ -3,17 +3,15 @@
 //! coming. Each test has its own iceoryx2 root path and prefix.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
 use nix::sys::signal::Signal;
-use support::processes::{Harness, eventually};
 use support::table::table_harness;
 use vref_inject::robot_id;
+use vref_testkit::{Harness, eventually};
 use vref_wire::AnswerStatus;
 use vref_wire::ipc::{IpcError, IpcSettings, ReferenceClient, StatsReader};
 
@@ -69,11 +67,11 @@ fn a_20_s_soak_at_100_hz_feeds_and_500_hz_queries_loses_nothing() {
         "resident memory grew by {} kB: {s}",
         end - start
     );
-    assert_eq!(s["rss_growth_kb"], end - start, "{s}");
-    let rtt = |k: &str| s[k].as_u64().unwrap();
-    assert!(rtt("rtt_p50_us") <= rtt("rtt_p99_us"), "{s}");
-    assert!(rtt("rtt_p99_us") <= rtt("rtt_p999_us"), "{s}");
-    assert!(rtt("rtt_p999_us") <= rtt("rtt_max_us"), "{s}");
+    // No query timed out, so none took longer than soak's 1 s query
+    // timeout: a bound from outside the figures, where their order is
+    // only the percentile's own.
+    let max = s["rtt_max_us"].as_u64().unwrap();
+    assert!(0 < max && max <= 1_000_000, "{s}");
 }
 
 #[test]
@@ -355,9 +353,9 @@ fn each_service_killed_during_a_soak_and_restarted_leaves_the_matcher_answering(
 fn a_service_that_stops_at_start_is_named_with_its_reason() {
     let dir = tempfile::tempdir().unwrap();
     let vref = dir.path().join("vref");
-    std::fs::copy(env!("CARGO_BIN_EXE_vref"), &vref).unwrap();
+    std::fs::copy(vref_testkit::binary("vref"), &vref).unwrap();
     for feed in ["vref-perception-feed", "vref-gesture-feed"] {
-        std::fs::copy(support::processes::binary(feed), dir.path().join(feed)).unwrap();
+        std::fs::copy(vref_testkit::binary(feed), dir.path().join(feed)).unwrap();
     }
     // A matcher that refuses its configuration, as a matcher of another
     // version would.

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 fn vref(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vref"))
+    Command::new(vref_testkit::binary("vref"))
         .args(args)
         .current_dir(dir)
         .env_remove("VREF_CONFIG")

@@ -9,8 +9,6 @@
 //! read back too.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
 use std::net::TcpStream;
@@ -23,10 +21,10 @@ use std::time::{Duration, Instant};
 use foxglove::Decode;
 use foxglove::messages::{FrameTransforms, SceneUpdate};
 use nix::sys::signal::Signal;
-use support::processes::{Harness, binary, eventually};
 use support::table::table_harness;
 use vref_inject::{VALID_FEATURE_DIM, robot_id, valid_objects};
 use vref_scene::Side;
+use vref_testkit::{Harness, binary, eventually, exit_within};
 use vref_wire::bytes::take_sample;
 use vref_wire::ipc::{GesturePublisher, IpcSettings, ReferenceClient, create_node};
 use vref_wire::{AnswerStatus, ObjectEntry, ReferenceAnswer, SnapshotHeader};
@@ -417,7 +415,7 @@ fn a_recording_killed_with_sigkill_replays_its_finished_chunks() {
 /// fails the test); without it, `python3`, and the check is skipped,
 /// saying so, where that has no `mcap`.
 fn python_reads(path: &std::path::Path, topics: &[&str], schema: &str) {
-    let script = support::repo_root().join("tools/check-mcap.py");
+    let script = vref_testkit::repo_root().join("tools/check-mcap.py");
     let named = std::env::var("VREF_PYTHON").ok();
     let python = named.clone().unwrap_or_else(|| "python3".to_owned());
     let probe = Command::new(&python)
@@ -591,16 +589,9 @@ fn a_foxglove_websocket_client_receives_scene_updates_from_vref_view() {
         Signal::SIGTERM,
     )
     .unwrap();
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let status = loop {
-        if let Some(status) = view.0.try_wait().unwrap() {
-            break status;
-        }
-        if Instant::now() > deadline {
-            panic!("vref view did not stop on SIGTERM");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = exit_within(&mut view.0, Duration::from_secs(10), || {
+        "vref view after SIGTERM".to_owned()
+    });
     assert_eq!(status.code(), Some(0));
 }
 

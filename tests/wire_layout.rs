@@ -3,11 +3,10 @@
 //! (clients/python/tests/test_layout.py) cannot fall behind the Rust types.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod support;
-
 use std::time::Duration;
 
-use support::{json_lines, repo_root, vref};
+use support::{json_lines, vref};
+use vref_testkit::repo_root;
 
 const REGENERATE: &str = "run `vref wire-layout --json > docs/wire-layout.json` \
      (cargo run -p vref -- wire-layout --json > docs/wire-layout.json), then \

@@ -37,13 +37,10 @@ fi
   ros-visualization-msgs==5.5.1 ros-std-srvs==5.5.1 numpy==2.4.6 \
   rosbags==0.11.9
 
-# The system tests start the service executables from target/debug; `cargo
-# test` builds a bin-only package's test harness, not its executable
-# (vref-bridge's binary package has no tests of its own), so build them
-# all first.
-cargo build --workspace --locked --bins
-
-# The viewer's tests read their MCAP files with Python's mcap too.
+# Every service package has an integration test, so `cargo test` builds
+# every executable before the system tests (tests/) start them from
+# target/debug. The viewer's tests read their MCAP files with Python's
+# mcap too.
 # A venv's python is a symlink: resolving it would run the base
 # interpreter, without the venv's packages.
 VREF_PYTHON="$(cd "$venv/bin" && pwd)/python" \

@@ -1,7 +1,7 @@
 //! A robot with its bridge on a loopback port, and a headset simulator on
 //! the other side of Zenoh, for the remote tests. Every endpoint is on
 //! 127.0.0.1; no session scouts or listens anywhere else.
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -19,20 +19,13 @@ use vref_wire::{
 };
 use zenoh::Wait;
 
-use super::processes::{Harness, eventually};
-use super::table;
+use vref_testkit::{Harness, eventually};
 
-/// A loopback port free a moment ago.
-pub fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-}
+use super::table;
 
 /// One robot: its harness (own iceoryx2 root and prefix), the dataset its
 /// feeds publish, its bridge's endpoint and key prefix.
+#[derive(Debug)]
 pub struct Robot {
     pub h: Harness,
     pub ipc: IpcSettings,
@@ -46,7 +39,7 @@ impl Robot {
     /// are set here); `robot_offset` shifts the robot's track ids, so
     /// that two robots give different answers.
     pub fn new(tag: &str, bridge: &str, robot_offset: u64) -> Self {
-        let endpoint = format!("tcp/127.0.0.1:{}", free_port());
+        let endpoint = format!("tcp/127.0.0.1:{}", vref_testkit::free_port());
         let prefix = format!("vref/t{}{tag}", std::process::id());
         let extra = format!(
             "[matching]\nbeta = 0.01\n\n[bridge]\nlisten = [\"{endpoint}\"]\nprefix = \"{prefix}\"\n\
@@ -104,9 +97,10 @@ impl Robot {
 
     /// A client session to the bridge, once it accepts connections.
     pub fn session(&self) -> zenoh::Session {
-        eventually(Duration::from_secs(20), "the bridge listening", || {
-            vref_bridge::open_client_session(std::slice::from_ref(&self.endpoint)).ok()
-        })
+        vref_testkit::bridge_session(
+            std::slice::from_ref(&self.endpoint),
+            Duration::from_secs(20),
+        )
     }
 }
 
@@ -219,6 +213,7 @@ pub fn ray_at(session: u64, sequence: u64, h: u64) -> PointingRay {
 /// at 30 Hz and, every sixth snapshot, a ray at `points_at`, until
 /// stopped. A burst asked for with [`Headset::burst`] is sent between two
 /// ticks, with the session's own sequence numbers (a headset gone wild).
+#[derive(Debug)]
 pub struct Headset {
     stop: Arc<AtomicBool>,
     burst: Arc<AtomicU64>,
@@ -316,6 +311,7 @@ impl Drop for Headset {
 }
 
 /// The bridge's latest published counters, read from its stats key.
+#[derive(Debug)]
 pub struct BridgeStatsReader {
     subscriber:
         zenoh::pubsub::Subscriber<zenoh::handlers::FifoChannelHandler<zenoh::sample::Sample>>,

@@ -1,12 +1,11 @@
 //! The six-object table scene of `vref inject --kind valid` as a dataset
 //! file, for feeds that must publish a scene whose answers are known.
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use vref_inject::{VALID_FEATURE_DIM, robot_id, valid_objects};
 use vref_scene::Side;
+use vref_testkit::Harness;
 use vref_wire::ipc::IpcSettings;
-
-use super::processes::Harness;
 
 /// The six-object table of `vref inject --kind valid`, as a dataset line:
 /// each view's objects with their features, and the truth.

@@ -16,10 +16,10 @@ use iceoryx2::prelude::*;
 use vref_bridge::json::{ObjectJson, SnapshotIn};
 use vref_bridge::{
     BridgeError, BridgeStats, ErrorReply, Format, Keys, Message, RemoteClient, json,
-    open_client_session,
 };
 use vref_config::Config;
 use vref_scene::Side;
+use vref_testkit::{bridge_session, eventually, free_port};
 use vref_wire::ipc::{
     SnapshotPublisher, answer_waiting, create_node, open_answer_event, open_reference,
     open_snapshot,
@@ -32,26 +32,6 @@ use zenoh::Wait;
 
 /// Longest any one step may take on a loaded machine.
 const LIMIT: Duration = Duration::from_secs(30);
-
-/// Calls `f` until it gives a value, at most `limit`.
-fn eventually<T>(limit: Duration, what: &str, mut f: impl FnMut() -> Option<T>) -> T {
-    let deadline = Instant::now() + limit;
-    loop {
-        if let Some(value) = f() {
-            return value;
-        }
-        assert!(Instant::now() < deadline, "{what}: not within {limit:?}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
-
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-}
 
 /// A configuration of this test's own: iceoryx2 under `root`, the bridge
 /// listening on a loopback port only.
@@ -157,19 +137,12 @@ fn robot_header(sequence: u64, count: usize) -> SnapshotHeader {
     }
 }
 
-/// A client session to the bridge, once it listens.
-fn connect(config: &Config) -> zenoh::Session {
-    eventually(LIMIT, "the bridge listening", || {
-        open_client_session(&config.bridge.listen).ok()
-    })
-}
-
 #[test]
 fn headset_in_and_state_out_cross_between_zenoh_and_iceoryx2() {
     let root = tempfile::tempdir().unwrap();
     let config = config(root.path(), "x");
     let bridge = Bridge::start(&config);
-    let zenoh = connect(&config);
+    let zenoh = bridge_session(&config.bridge.listen, LIMIT);
     let keys = Keys::new(&config.bridge.prefix).unwrap();
 
     // Headset in: a JSON snapshot on the network is published locally as
@@ -295,7 +268,7 @@ fn remote_queries_are_answered_by_the_local_matcher_or_refused_with_a_reason() {
     config.bridge.headset_in = false;
     config.bridge.state_out = false;
     let bridge = Bridge::start(&config);
-    let zenoh = connect(&config);
+    let zenoh = bridge_session(&config.bridge.listen, LIMIT);
     let keys = Keys::new(&config.bridge.prefix).unwrap();
 
     // No matcher yet: the query passes the intake and is refused as

@@ -1,8 +1,32 @@
-//! What vref's tests share: where the data sets that vref did not make
-//! are (`../shared/data` beside the repository, or `VREF_DATA`), so that
-//! no test writes that path itself.
+//! What vref's tests share, so that each thing is done one way:
+//!
+//! - where the data sets that vref did not make are (`../shared/data`
+//!   beside the repository, or `VREF_DATA`): [`data`];
+//! - where the service executables are, refused when older than their
+//!   sources: [`binary`];
+//! - bounded waits on vref-harness's readiness wait: [`eventually`],
+//!   [`join_within`], [`exit_within`];
+//! - service processes under a root path and prefix of their own, with a
+//!   watchdog per test: [`Harness`];
+//! - the checks both feed binaries share: [`feed_cli`];
+//! - Zenoh on loopback: [`free_port`], [`bridge_session`].
+// A test kit fails the test that calls it: by panicking.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod binaries;
+pub mod feed_cli;
+mod net;
+mod processes;
+mod wait;
+mod watchdog;
 
 use std::path::PathBuf;
+
+pub use binaries::{binary, repo_root, target_dir};
+pub use net::{bridge_session, free_port};
+pub use processes::Harness;
+pub use wait::{eventually, exit_within, join_within};
+pub use watchdog::test_limit;
 
 /// The shared data folder: `VREF_DATA` where it is set and not empty,
 /// else `../shared/data` beside the repository.

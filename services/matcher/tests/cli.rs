@@ -1,13 +1,14 @@
 //! The matcher binary as an operator meets it. (Having an integration test
 //! also makes `cargo test --workspace` build the binary, which the system
-//! tests in the top-level tests/ start.)
+//! tests, package vref-system-tests in tests/, start.)
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use nix::sys::signal::{Signal, kill};
 use nix::unistd::Pid;
+use vref_testkit::{eventually, exit_within};
 
 fn matcher() -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_vref-matcher"));
@@ -65,30 +66,14 @@ fn sigterm_stops_it_with_exit_0() {
         .stderr(std::fs::File::create(&log).unwrap())
         .spawn()
         .unwrap();
-    let deadline = Instant::now() + Duration::from_secs(20);
-    while !std::fs::read_to_string(&log)
-        .unwrap()
-        .contains("matcher ready")
-    {
-        assert!(
-            Instant::now() < deadline,
-            "not ready:\n{}",
-            std::fs::read_to_string(&log).unwrap()
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    eventually(Duration::from_secs(20), "matcher ready", || {
+        let text = std::fs::read_to_string(&log).unwrap();
+        text.contains("matcher ready").then_some(())
+    });
     kill(Pid::from_raw(child.id() as i32), Signal::SIGTERM).unwrap();
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if Instant::now() > deadline {
-            child.kill().ok();
-            panic!("no exit after SIGTERM");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = exit_within(&mut child, Duration::from_secs(10), || {
+        "the matcher after SIGTERM".to_owned()
+    });
     assert_eq!(status.code(), Some(0));
     let text = std::fs::read_to_string(&log).unwrap();
     assert!(text.contains("matcher stopped"), "{text}");

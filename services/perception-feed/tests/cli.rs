@@ -2,8 +2,7 @@
 //! `vref-perception-feed` as a user meets it: help, refusals with exit code 2, and a
 //! clean stop on SIGTERM.
 
-#[path = "../../../tests/support/feed_cli.rs"]
-mod feed_cli;
+use vref_testkit::feed_cli;
 
 const BIN: &str = env!("CARGO_BIN_EXE_vref-perception-feed");
 

@@ -1,12 +1,12 @@
 //! The command-line checks both feed binaries share; each feed package's
-//! tests/cli.rs includes this file with `#[path]` and passes its binary
-//! (only a package's own tests know its `CARGO_BIN_EXE_*`, and having
-//! integration tests is what makes `cargo test` build the binary).
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+//! tests/cli.rs passes its binary (having integration tests is what makes
+//! `cargo test` build a package's binary).
 
 use std::path::Path;
-use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Output, Stdio};
+use std::time::Duration;
+
+use crate::wait::exit_within;
 
 fn run(bin: &str, args: &[&str], dir: &Path) -> Output {
     Command::new(bin)
@@ -63,19 +63,6 @@ pub fn bad_sources_and_settings_exit_2_naming_the_problem(bin: &str) {
     assert!(stderr(&out).contains("kitchen"), "{}", stderr(&out));
 }
 
-/// Waits for `child` to exit, killing it after `limit`.
-fn wait(mut child: Child, limit: Duration) -> Output {
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > limit {
-            child.kill().unwrap();
-            panic!("did not stop within {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
-}
-
 /// Runs the feed at 50 Hz under its own root path and prefix
 /// (`prefix_tag`), stops it with SIGTERM, checks exit 0, that its start
 /// line names `frame` and that it published; returns its log.
@@ -93,7 +80,7 @@ pub fn publishes_until_sigterm_then_exits_0(bin: &str, prefix_tag: &str, frame: 
         ),
     )
     .unwrap();
-    let child = Command::new(bin)
+    let mut child = Command::new(bin)
         .args(["--config", config.to_str().unwrap(), "--rate", "50"])
         .current_dir(dir.path())
         .env_remove("VREF_CONFIG")
@@ -108,7 +95,10 @@ pub fn publishes_until_sigterm_then_exits_0(bin: &str, prefix_tag: &str, frame: 
         .status()
         .unwrap();
     assert!(killed.success());
-    let out = wait(child, Duration::from_secs(10));
+    exit_within(&mut child, Duration::from_secs(10), || {
+        format!("{bin} after SIGTERM")
+    });
+    let out = child.wait_with_output().unwrap();
     let log = stderr(&out);
     assert_eq!(out.status.code(), Some(0), "{log}");
     assert!(out.stdout.is_empty());

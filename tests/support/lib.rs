@@ -1,15 +1,15 @@
-//! Shared by the system tests: run the real `vref` binary with a time
-//! limit, and find the repository's files and the shared data.
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+//! Shared by the system tests (processes, waits, executables and data
+//! are vref-testkit's): the `vref` command with a time limit, the table
+//! scene, a robot and a headset on either side of Zenoh.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-pub mod processes;
 pub mod remote;
 pub mod table;
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// What a finished command left behind.
 #[derive(Debug)]
@@ -25,14 +25,6 @@ impl Run {
         assert_eq!(self.code, Some(0), "command failed:\n{}", self.stderr);
         self
     }
-}
-
-/// The repository root (this file is `tests/support/mod.rs`).
-pub fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
 }
 
 /// CMU House in the shared data (`VREF_DATA`); `VREF_CMU_HOUSE` overrides.
@@ -51,7 +43,7 @@ pub fn cmu_house_dir() -> PathBuf {
 /// Runs `vref` with `args` and the repository's config, killing it after
 /// `limit` so that a hang fails the test instead of stalling the suite.
 pub fn vref(args: &[&str], limit: Duration) -> Run {
-    vref_at(Path::new(env!("CARGO_BIN_EXE_vref")), args, limit)
+    vref_at(&vref_testkit::binary("vref"), args, limit)
 }
 
 /// Like [`vref`], with the `vref` binary at `program` (a copy beside
@@ -62,7 +54,7 @@ pub fn vref_at(program: &Path, args: &[&str], limit: Duration) -> Run {
 
 /// Like [`vref_at`], with environment variables `env` set.
 pub fn vref_with(program: &Path, args: &[&str], env: &[(&str, &str)], limit: Duration) -> Run {
-    let config = repo_root().join("config/vref.toml");
+    let config = vref_testkit::repo_root().join("config/vref.toml");
     let mut child = Command::new(program)
         .envs(env.iter().copied())
         .args(args)
@@ -82,18 +74,7 @@ pub fn vref_with(program: &Path, args: &[&str], env: &[(&str, &str)], limit: Dur
     };
     let stdout = drain(Box::new(child.stdout.take().unwrap()));
     let stderr = drain(Box::new(child.stderr.take().unwrap()));
-    let deadline = Instant::now() + limit;
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if Instant::now() > deadline {
-            child.kill().ok();
-            child.wait().ok();
-            panic!("vref {args:?} did not finish within {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
+    let status = vref_testkit::exit_within(&mut child, limit, || format!("vref {args:?}"));
     Run {
         code: status.code(),
         stdout: stdout.join().unwrap(),
