@@ -54,7 +54,7 @@ pub enum RunError {
     #[error(transparent)]
     Ipc(#[from] IpcError),
     /// A service died while the run measured.
-    #[error("a service died during the {run}: {source}")]
+    #[error("a service died during the {run}")]
     Died {
         run: &'static str,
         source: launch::LaunchError,
