@@ -48,10 +48,9 @@ pub enum Ros2Error {
     Ipc(#[from] IpcError),
 }
 
-impl Ros2Error {
-    /// The configuration was wrong, rather than something failing while
-    /// running.
-    pub fn is_bad_input(&self) -> bool {
+impl vref_logging::exit::Fault for Ros2Error {
+    /// The configuration was wrong: its [ros2] settings or a topic name.
+    fn is_bad_input(&self) -> bool {
         matches!(self, Ros2Error::Settings(_) | Ros2Error::Name { .. })
     }
 }

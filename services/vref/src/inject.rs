@@ -8,12 +8,11 @@ use std::time::Duration;
 use clap::{Args, ValueEnum};
 use vref_config::Config;
 use vref_inject::{Kind, Message, Target};
+use vref_logging::exit::{Blame, Failure};
 use vref_scene::Side;
 use vref_wire::ipc::{
     GesturePublisher, SnapshotPublisher, create_node, drain, now_ns, open_gesture, open_snapshot,
 };
-
-use crate::failure::{Blame, Failure};
 
 /// How long the publisher stays after its last message, and between the
 /// messages of kinds that must be taken one at a time. A subscriber opens

@@ -6,13 +6,13 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, anyhow};
 use iceoryx2::prelude::*;
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_record::{Frame, RecordedRay, RecordedSnapshot, RecordingWriter};
 use vref_scene::Side;
 use vref_view::ViewOptions;
 use vref_wire::ipc::{create_node, drain, open_gesture, open_snapshot, termination_requested};
 
 use crate::cli::RecordArgs;
-use crate::failure::{Blame, Failure};
 
 /// Longest sleep between checks of the clock.
 const TICK: Duration = Duration::from_millis(100);
