@@ -111,6 +111,12 @@ impl BridgeError {
     }
 }
 
+impl vref_logging::exit::Fault for BridgeError {
+    fn is_bad_input(&self) -> bool {
+        self.is_configuration()
+    }
+}
+
 /// Shorthand for Zenoh's boxed errors, which carry only their text.
 pub(crate) fn zenoh_err(what: impl Into<String>, error: impl std::fmt::Display) -> NetError {
     NetError::Zenoh {

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use vref_scene::{Limits, Side};
-use vref_wire::ipc::{DecisionReader, StatsReader, create_node, open_snapshot};
+use vref_wire::ipc::{DecisionReader, StatsReader, create_node, drain, open_snapshot};
 use vref_wire::{ObjectEntry, SnapshotHeader, WireError, validate_snapshot};
 use zenoh::Wait;
 use zenoh::pubsub::Publisher;
@@ -124,18 +124,11 @@ fn robot_snapshot(
     format: Format,
     last: &mut Option<(u64, u64)>,
 ) -> Option<Vec<u8>> {
-    let mut latest = None;
-    loop {
-        match robot.receive() {
-            Ok(Some(sample)) => latest = Some(sample),
-            Ok(None) => break,
-            Err(e) => {
-                tracing::warn!("receiving a robot snapshot: {e:?}");
-                break;
-            }
-        }
+    let drained = drain::newest(robot);
+    if let Some(e) = &drained.error {
+        tracing::warn!("receiving a robot snapshot: {e:?}");
     }
-    let sample = latest?;
+    let sample = drained.newest?;
     match encode_if_new(sample.user_header(), sample.payload(), limits, format, last) {
         Newest::Seen => None,
         Newest::Invalid(e) => {

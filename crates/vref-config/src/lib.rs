@@ -19,7 +19,7 @@ pub use bridge::{
     BridgeSettings, BridgeSettingsError, EndpointError, PrefixError, StateEncoding, TRANSPORTS,
     ZenohMode, check_endpoint, check_prefix,
 };
-pub use ros2::{ROS_DOMAIN_ID_ENV, Ros2Settings};
+pub use ros2::{BadDomainId, ROS_DOMAIN_ID_ENV, Ros2Settings};
 
 /// Environment variable naming a configuration file.
 pub const CONFIG_ENV: &str = "VREF_CONFIG";

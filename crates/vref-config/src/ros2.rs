@@ -9,6 +9,11 @@ use serde::{Deserialize, Serialize};
 /// `domain_id` as it does for every ROS 2 node on the machine.
 pub const ROS_DOMAIN_ID_ENV: &str = "ROS_DOMAIN_ID";
 
+/// `ROS_DOMAIN_ID` is set but names no DDS domain; the value as set.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{ROS_DOMAIN_ID_ENV}={0:?} is not a domain id (0-232)", ROS_DOMAIN_ID_ENV = ROS_DOMAIN_ID_ENV)]
+pub struct BadDomainId(pub String);
+
 /// The `[ros2]` section of config/vref.toml.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -100,14 +105,14 @@ impl Ros2Settings {
     }
 
     /// `ROS_DOMAIN_ID` if set (and valid), else `domain_id`.
-    pub fn effective_domain_id(&self) -> Result<u16, String> {
+    pub fn effective_domain_id(&self) -> Result<u16, BadDomainId> {
         match std::env::var(ROS_DOMAIN_ID_ENV) {
             Ok(text) if !text.trim().is_empty() => text
                 .trim()
                 .parse::<u16>()
                 .ok()
                 .filter(|d| *d <= 232)
-                .ok_or_else(|| format!("{ROS_DOMAIN_ID_ENV}={text:?} is not a domain id (0-232)")),
+                .ok_or(BadDomainId(text)),
             _ => Ok(self.domain_id),
         }
     }
@@ -314,5 +319,13 @@ mod tests {
         };
         s.check().unwrap();
         assert!(s.headset_camera());
+    }
+
+    #[test]
+    fn a_bad_domain_id_names_the_variable_and_its_value() {
+        assert_eq!(
+            BadDomainId("300".to_owned()).to_string(),
+            "ROS_DOMAIN_ID=\"300\" is not a domain id (0-232)"
+        );
     }
 }

@@ -17,10 +17,10 @@ pub enum FeedError {
     Run(#[source] RunError),
 }
 
-impl FeedError {
-    /// Whether the caller's input was wrong (configuration, flags,
-    /// source) rather than something breaking while running.
-    pub fn is_bad_input(&self) -> bool {
+impl vref_logging::exit::Fault for FeedError {
+    /// The configuration, flags or source were wrong: everything but a
+    /// failure while publishing.
+    fn is_bad_input(&self) -> bool {
         !matches!(self, FeedError::Run(_))
     }
 }

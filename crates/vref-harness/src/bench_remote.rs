@@ -220,7 +220,17 @@ enum Outcome {
     Answered,
     Other,
     Timeout,
-    Failed(String),
+    Failed(AskError),
+}
+
+/// Why a question failed other than by going unanswered in time: counted
+/// and logged, the run goes on.
+#[derive(Debug, thiserror::Error)]
+enum AskError {
+    #[error(transparent)]
+    Net(NetError),
+    #[error(transparent)]
+    Ipc(IpcError),
 }
 
 impl Outcome {
@@ -228,7 +238,7 @@ impl Outcome {
         match asked {
             Ok(a) => Self::answer(&a),
             Err(NetError::NoReply { .. }) => Self::Timeout,
-            Err(e) => Self::Failed(e.to_string()),
+            Err(e) => Self::Failed(AskError::Net(e)),
         }
     }
 
@@ -236,7 +246,7 @@ impl Outcome {
         match asked {
             Ok(a) => Self::answer(&a),
             Err(IpcError::Timeout { .. }) => Self::Timeout,
-            Err(e) => Self::Failed(e.to_string()),
+            Err(e) => Self::Failed(AskError::Ipc(e)),
         }
     }
 

@@ -54,7 +54,7 @@ pub enum RunError {
     #[error(transparent)]
     Ipc(#[from] IpcError),
     /// A service died while the run measured.
-    #[error("a service died during the {run}: {source}")]
+    #[error("a service died during the {run}")]
     Died {
         run: &'static str,
         source: launch::LaunchError,
@@ -88,10 +88,10 @@ pub enum RunError {
 /// Why the caller's output callback failed.
 pub type OutputError = Box<dyn std::error::Error + Send + Sync>;
 
-impl RunError {
-    /// Whether the caller asked wrong (exit 2 for the command line), not
-    /// the run broke (exit 1).
-    pub fn is_bad_input(&self) -> bool {
+impl vref_logging::exit::Fault for RunError {
+    /// The caller asked wrong (a feed's setup, the demo's source, too few
+    /// objects), rather than the run broke.
+    fn is_bad_input(&self) -> bool {
         matches!(
             self,
             RunError::Setup(_) | RunError::DemoSource(_) | RunError::TooFewObjects

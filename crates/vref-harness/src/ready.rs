@@ -30,9 +30,6 @@ pub enum ReadyError {
     Died(#[from] LaunchError),
     #[error(transparent)]
     Ipc(#[from] vref_wire::ipc::IpcError),
-    /// Another failure of the check, in words.
-    #[error("{0}")]
-    Check(String),
 }
 
 /// Runs `check` every `every` until it returns [`Readiness::Ready`] (its
@@ -79,8 +76,10 @@ mod tests {
         assert!(late.is_err_and(|e| e.to_string() == "no answer from the echo server within 20ms"));
         let failed: Result<(), _> =
             wait_ready(Duration::from_secs(5), Duration::from_millis(1), || {
-                Err(ReadyError::Check("broken".to_owned()))
+                Err(ReadyError::Died(LaunchError::NoService(
+                    "broken".to_owned(),
+                )))
             });
-        assert!(failed.is_err_and(|e| e.to_string() == "broken"));
+        assert!(failed.is_err_and(|e| e.to_string() == "no service broken"));
     }
 }

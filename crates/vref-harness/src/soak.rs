@@ -173,9 +173,7 @@ fn warm_up(
     let mut answered = false;
     let mut solved = false;
     wait_ready(READY_WITHIN, Duration::from_millis(50), || {
-        services
-            .ensure_running()
-            .map_err(|source| ReadyError::Check(died(source).to_string()))?;
+        services.ensure_running()?;
         if !answered {
             let result = match world.gesture(now_s()) {
                 Some(g) => ask(client, &g, Duration::from_millis(500)),
@@ -192,8 +190,8 @@ fn warm_up(
         } else {
             Readiness::Waiting("answer and no solve from the services".to_owned())
         })
-    })?;
-    Ok(())
+    })
+    .map_err(soak_error)
 }
 
 /// The first statistics taken at or after `after_ns`.
@@ -202,17 +200,29 @@ fn stats_after(
     after_ns: u64,
     services: &mut Services,
 ) -> Result<MatcherStats, RunError> {
-    let deadline = Instant::now() + STATS_WITHIN;
-    while Instant::now() < deadline {
+    wait_ready(STATS_WITHIN, Duration::from_millis(20), || {
         if let Some(s) = stats.latest()?
             && s.taken_ns >= after_ns
         {
-            return Ok(s);
+            return Ok(Readiness::Ready(s));
         }
-        check_alive(services)?;
-        std::thread::sleep(Duration::from_millis(20));
+        services.ensure_running()?;
+        Ok(Readiness::Waiting("statistics".to_owned()))
+    })
+    .map_err(|e| match e {
+        ReadyError::Timeout { .. } => RunError::NoStats(STATS_WITHIN),
+        other => soak_error(other),
+    })
+}
+
+/// A wait's error as the soak reports it: a death is the soak's, as it is
+/// once measuring, and an IPC failure is the run's own.
+fn soak_error(error: ReadyError) -> RunError {
+    match error {
+        ReadyError::Died(source) => died(source),
+        ReadyError::Ipc(e) => RunError::Ipc(e),
+        other => other.into(),
     }
-    Err(RunError::NoStats(STATS_WITHIN))
 }
 
 fn died(source: crate::launch::LaunchError) -> RunError {

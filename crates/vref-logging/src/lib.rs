@@ -1,6 +1,9 @@
-//! The log set-up of every vref binary, so that the four of them read
-//! RUST_LOG and write to stderr the same way, and the one-line form of an
-//! error with its causes that log lines and counters carry.
+//! The log set-up of every vref binary, so that all of them read
+//! RUST_LOG and write to stderr the same way, the one-line form of an
+//! error with its causes that log lines and counters carry, and the exit
+//! codes every binary gives ([`exit`]).
+
+pub mod exit;
 
 use std::io::IsTerminal;
 

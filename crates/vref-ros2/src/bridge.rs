@@ -38,8 +38,10 @@ const SUMMARY_EVERY: Duration = Duration::from_secs(10);
 /// Why vref-ros2 could not start or stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum Ros2Error {
+    /// `ROS_DOMAIN_ID`, which stands in for `[ros2] domain_id`, is not a
+    /// domain; its text is part of this one's, as it was always shown.
     #[error("[ros2] {0}")]
-    Settings(String),
+    DomainId(vref_config::BadDomainId),
     #[error("ROS 2 name {name:?}: {message}")]
     Name { name: String, message: String },
     #[error("creating the ROS 2 {what}: {message}")]
@@ -48,11 +50,10 @@ pub enum Ros2Error {
     Ipc(#[from] IpcError),
 }
 
-impl Ros2Error {
-    /// The configuration was wrong, rather than something failing while
-    /// running.
-    pub fn is_bad_input(&self) -> bool {
-        matches!(self, Ros2Error::Settings(_) | Ros2Error::Name { .. })
+impl vref_logging::exit::Fault for Ros2Error {
+    /// The configuration was wrong: its [ros2] settings or a topic name.
+    fn is_bad_input(&self) -> bool {
+        matches!(self, Ros2Error::DomainId(_) | Ros2Error::Name { .. })
     }
 }
 
@@ -379,7 +380,7 @@ impl Drop for Asker {
 /// Runs until SIGINT or SIGTERM.
 pub fn run(config: &Config) -> Result<Counts, Ros2Error> {
     let s = &config.ros2;
-    let domain = s.effective_domain_id().map_err(Ros2Error::Settings)?;
+    let domain = s.effective_domain_id().map_err(Ros2Error::DomainId)?;
     let max = config.perception.image_limit();
 
     // iceoryx2 first: its node catches SIGINT/SIGTERM for the whole process.

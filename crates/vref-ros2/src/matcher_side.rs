@@ -6,7 +6,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use vref_scene::Side;
 use vref_view::View;
-use vref_wire::ipc::{Decision, IpcError, IpcSettings, Node, open_decision, open_snapshot};
+use vref_wire::ipc::{Decision, IpcError, IpcSettings, Node, drain, open_decision, open_snapshot};
 use vref_wire::{DecisionEntry, DecisionHeader, ObjectEntry, SnapshotHeader};
 
 /// The human view's and the decisions' subscribers, and the newest of
@@ -53,14 +53,19 @@ impl MatcherSide {
     }
 
     /// Takes every sample waiting, keeping the newest view and decision;
-    /// a decision that does not read is logged and skipped.
+    /// a decision that does not read is logged and skipped, and so is a
+    /// failed receive (the next turn tries again).
     pub(crate) fn take(&mut self) -> News {
         let mut news = News::default();
-        while let Ok(Some(sample)) = self.human.receive() {
+        let drained = drain::newest(&self.human);
+        if let Some(e) = &drained.error {
+            tracing::warn!("receiving a human snapshot: {e:?}");
+        }
+        if let Some(sample) = drained.newest {
             self.human_view = Some(View::from_wire(sample.user_header(), sample.payload()));
             news.view = true;
         }
-        while let Ok(Some(sample)) = self.decisions.receive() {
+        let taken = drain::each(&self.decisions, |sample| {
             match Decision::read(sample.user_header(), sample.payload()) {
                 Ok(d) => {
                     self.decision = Some(d);
@@ -68,6 +73,9 @@ impl MatcherSide {
                 }
                 Err(e) => tracing::warn!("decision refused: {e}"),
             }
+        });
+        if let Err(e) = taken {
+            tracing::warn!("receiving a decision: {e:?}");
         }
         news
     }

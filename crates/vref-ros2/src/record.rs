@@ -20,7 +20,7 @@ use serde::Serialize;
 use vref_config::Config;
 use vref_scene::Side;
 use vref_view::{Asked, View};
-use vref_wire::ipc::{IpcError, ReferenceClient, create_node, nap, now_ns, open_snapshot};
+use vref_wire::ipc::{IpcError, ReferenceClient, create_node, drain, nap, now_ns, open_snapshot};
 use vref_wire::{ObjectEntry, SnapshotHeader};
 
 use crate::answer::{NewAnswers, referenced_point};
@@ -245,7 +245,11 @@ pub fn record<W: Write + Seek>(
     let mut next_ask = Instant::now();
     let end = Instant::now() + duration;
     while Instant::now() < end && nap(&node, TURN) {
-        while let Ok(Some(sample)) = robot_sub.receive() {
+        let drained = drain::newest(&robot_sub);
+        if let Some(e) = &drained.error {
+            tracing::warn!("receiving a robot snapshot: {e:?}");
+        }
+        if let Some(sample) = drained.newest {
             robot_view = Some(View::from_wire(sample.user_header(), sample.payload()));
             scene_changed = true;
         }

@@ -30,3 +30,9 @@ impl ServeError {
         matches!(self, Self::Config(_))
     }
 }
+
+impl vref_logging::exit::Fault for ServeError {
+    fn is_bad_input(&self) -> bool {
+        self.is_configuration()
+    }
+}

@@ -9,8 +9,8 @@ use vref_config::Config;
 use vref_reference::{Now, Placement, QueryRate, ReferenceState, RejectReason, Rejected, Solver};
 use vref_scene::Side;
 use vref_wire::ipc::{
-    ReferenceServer, StatsPublisher, answer_waiting, create_node, open_answer_event, open_gesture,
-    open_reference, open_request_event, open_snapshot,
+    ReferenceServer, StatsPublisher, answer_waiting, create_node, drain, open_answer_event,
+    open_gesture, open_reference, open_request_event, open_snapshot,
 };
 use vref_wire::{ObjectEntry, PointingRay, SnapshotHeader};
 
@@ -235,18 +235,11 @@ impl Intake {
     /// Validates the newest snapshot in place and hands it to the state;
     /// a new one goes to the solver.
     fn take_snapshot(&mut self, side: Side, sub: &SnapshotSubscriber) {
-        let mut latest = None;
-        loop {
-            match sub.receive() {
-                Ok(Some(sample)) => latest = Some(sample),
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!(%side, "receiving a snapshot: {e:?}");
-                    break;
-                }
-            }
+        let drained = drain::newest(sub);
+        if let Some(e) = &drained.error {
+            tracing::warn!(%side, "receiving a snapshot: {e:?}");
         }
-        let Some(sample) = latest else {
+        let Some(sample) = drained.newest else {
             return;
         };
         let origin = sample.header().publisher_id().value();
@@ -274,24 +267,18 @@ impl Intake {
     }
 
     fn take_rays(&mut self, sub: &GestureSubscriber) {
-        loop {
-            match sub.receive() {
-                Ok(Some(sample)) => {
-                    let origin = sample.header().publisher_id().value();
-                    match self
-                        .state
-                        .accept_ray(origin, sample.payload(), &Now::read())
-                    {
-                        Ok(a) => note_placement("ray", a.placement, sample.payload().session),
-                        Err(rejected) => self.log_rejection("ray", origin, &rejected),
-                    }
-                }
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!("receiving a ray: {e:?}");
-                    break;
-                }
+        let taken = drain::each(sub, |sample| {
+            let origin = sample.header().publisher_id().value();
+            match self
+                .state
+                .accept_ray(origin, sample.payload(), &Now::read())
+            {
+                Ok(a) => note_placement("ray", a.placement, sample.payload().session),
+                Err(rejected) => self.log_rejection("ray", origin, &rejected),
             }
+        });
+        if let Err(e) = taken {
+            tracing::warn!("receiving a ray: {e:?}");
         }
     }
 

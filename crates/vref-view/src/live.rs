@@ -21,8 +21,8 @@ use vref_record::WireChannel;
 use vref_scene::Side;
 use vref_wire::bytes::{put_sample, to_bytes};
 use vref_wire::ipc::{
-    Decision, IpcSettings, ReferenceClient, create_node, now_ns, open_decision, open_gesture,
-    open_snapshot, open_stats, termination_requested,
+    Decision, IpcSettings, ReferenceClient, create_node, drain, now_ns, open_decision,
+    open_gesture, open_snapshot, open_stats, termination_requested,
 };
 
 use crate::channels::{Channels, is_wire};
@@ -326,12 +326,7 @@ fn watch(
             (Side::Robot, &robot, WireChannel::RobotSnapshot),
             (Side::Human, &human, WireChannel::HumanSnapshot),
         ] {
-            loop {
-                let sample = match sub.receive() {
-                    Ok(Some(sample)) => sample,
-                    Ok(None) => break,
-                    Err(e) => break 'outer Some(ViewError::iceoryx("receiving a snapshot")(&e)),
-                };
+            let taken = drain::each(sub, |sample| {
                 let wire = channels.wire(channel);
                 if wire.has_sinks() {
                     bytes.clear();
@@ -345,14 +340,12 @@ fn watch(
                     Side::Human => latest.human = Some(view),
                 }
                 changed = true;
+            });
+            if let Err(e) = taken {
+                break 'outer Some(ViewError::iceoryx("receiving a snapshot")(&e));
             }
         }
-        loop {
-            let sample = match gesture.receive() {
-                Ok(Some(sample)) => sample,
-                Ok(None) => break,
-                Err(e) => break 'outer Some(ViewError::iceoryx("receiving a ray")(&e)),
-            };
+        let taken = drain::each(&gesture, |sample| {
             let ray = *sample.payload();
             let wire = channels.wire(WireChannel::Gesture);
             if wire.has_sinks() {
@@ -361,13 +354,11 @@ fn watch(
             }
             latest.ray = Some(ray);
             changed = true;
+        });
+        if let Err(e) = taken {
+            break 'outer Some(ViewError::iceoryx("receiving a ray")(&e));
         }
-        loop {
-            let sample = match decision.receive() {
-                Ok(Some(sample)) => sample,
-                Ok(None) => break,
-                Err(e) => break 'outer Some(ViewError::iceoryx("receiving a decision")(&e)),
-            };
+        let taken = drain::each(&decision, |sample| {
             let wire = channels.wire(WireChannel::Decision);
             if wire.has_sinks() {
                 bytes.clear();
@@ -386,19 +377,20 @@ fn watch(
                 }
                 Err(e) => tracing::warn!("decision refused: {e}"),
             }
+        });
+        if let Err(e) = taken {
+            break 'outer Some(ViewError::iceoryx("receiving a decision")(&e));
         }
-        loop {
-            let sample = match stats.receive() {
-                Ok(Some(sample)) => sample,
-                Ok(None) => break,
-                Err(e) => break 'outer Some(ViewError::iceoryx("receiving statistics")(&e)),
-            };
+        let taken = drain::each(&stats, |sample| {
             let s = *sample.payload();
             if channels.stats.has_sinks() {
                 log_json(&channels.stats, &json::stats(&s));
                 counts.stats += 1;
             }
             latest.stats = Some(s);
+        });
+        if let Err(e) = taken {
+            break 'outer Some(ViewError::iceoryx("receiving statistics")(&e));
         }
         if let Some(asker) = &asker {
             while let Ok(asked) = asker.answers.try_recv() {

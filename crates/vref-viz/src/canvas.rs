@@ -64,7 +64,7 @@ pub(crate) fn render_png(
             &mut pixels,
             (size.width, size.height),
         )
-        .map_err(|e| RenderError::Draw(e.to_string()))?;
+        .map_err(drawing)?;
         let root = backend.into_drawing_area();
         draw(&root)?;
         root.present().map_err(drawing)?;
@@ -86,7 +86,7 @@ pub(crate) fn render_png_over(
             &mut pixels,
             (size.width, size.height),
         )
-        .map_err(|e| RenderError::Draw(e.to_string()))?;
+        .map_err(drawing)?;
         let root = backend.into_drawing_area();
         draw(&root)?;
         root.present().map_err(drawing)?;
@@ -110,9 +110,9 @@ pub(crate) fn write(out: &Path, png: &[u8]) -> Result<(), RenderError> {
     })
 }
 
-/// Plotters' errors are generic over the backend; only their text is kept.
-pub(crate) fn drawing<E: std::error::Error>(error: E) -> RenderError {
-    RenderError::Draw(error.to_string())
+/// Shorthand: `result.map_err(drawing)` for any of plotters' errors.
+pub(crate) fn drawing<E: std::error::Error + Send + Sync + 'static>(error: E) -> RenderError {
+    RenderError::Draw(Box::new(error))
 }
 
 fn encode_png(pixels: &[u8], size: Size) -> Result<Vec<u8>, RenderError> {

@@ -27,8 +27,10 @@ pub enum RenderError {
     },
     #[error("the bundled font could not be loaded")]
     Font,
-    #[error("drawing: {0}")]
-    Draw(String),
+    /// Plotters failed; its errors are generic over the backend, so they
+    /// are boxed.
+    #[error("drawing")]
+    Draw(#[source] Box<dyn std::error::Error + Send + Sync>),
     #[error("encoding PNG")]
     Encode(#[from] png::EncodingError),
     #[error("writing {path}")]

@@ -14,6 +14,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
+use vref_logging::exit::{Blame, Failure};
 
 /// The vref bridge: the headset, remote controllers and monitors reach
 /// this robot's matcher over Zenoh, under the `[bridge] prefix` keys
@@ -35,22 +36,17 @@ struct Args {
 fn main() -> ExitCode {
     let args = Args::parse();
     vref_logging::init("info");
-    let config = match vref_config::Config::load(args.config.as_deref()) {
-        Ok((config, source)) => {
-            tracing::info!(?source, "configuration");
-            config
-        }
-        Err(e) => {
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            return ExitCode::from(2);
-        }
-    };
-    match vref_bridge::run(&config) {
+    match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            let code = if e.is_configuration() { 2 } else { 1 };
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            ExitCode::from(code)
+        Err(failure) => {
+            tracing::error!("{:#}", failure.error());
+            failure.exit_code()
         }
     }
+}
+
+fn run(args: &Args) -> Result<(), Failure> {
+    let (config, source) = vref_config::Config::load(args.config.as_deref()).bad_input()?;
+    tracing::info!(?source, "configuration");
+    vref_bridge::run(&config).map_err(Failure::of)
 }

@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use vref_feed::{FeedArgs, Role, run_feed_with};
+use vref_logging::exit::Failure;
 
 /// The vref gesture feed: publishes what the person's AR headset sees as
 /// iceoryx2 snapshots, and where the person points. Logs go to stderr
@@ -29,9 +30,9 @@ fn main() -> ExitCode {
     match run_feed_with(Role::Gesture, &args.feed, Some(&vref_ros2::bag::FeedBags)) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
-            let code = if e.is_bad_input() { 2 } else { 1 };
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            ExitCode::from(code)
+            let failure = Failure::of(e);
+            tracing::error!("{:#}", failure.error());
+            failure.exit_code()
         }
     }
 }

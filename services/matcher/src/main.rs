@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
+use vref_logging::exit::{Blame, Failure};
 
 /// The vref matcher: answers "which robot object does the person mean?"
 /// over iceoryx2. Logs go to stderr (RUST_LOG, default info).
@@ -28,26 +29,18 @@ struct Args {
 fn main() -> ExitCode {
     let args = Args::parse();
     vref_logging::init("info");
-    if let Err(e) = vref_match::check_simd_setting() {
-        tracing::error!("{e}");
-        return ExitCode::from(2);
-    }
-    let config = match vref_config::Config::load(args.config.as_deref()) {
-        Ok((config, source)) => {
-            tracing::info!(?source, "configuration");
-            config
-        }
-        Err(e) => {
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            return ExitCode::from(2);
-        }
-    };
-    match vref_serve::run(&config) {
+    match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            let code = if e.is_configuration() { 2 } else { 1 };
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            ExitCode::from(code)
+        Err(failure) => {
+            tracing::error!("{:#}", failure.error());
+            failure.exit_code()
         }
     }
+}
+
+fn run(args: &Args) -> Result<(), Failure> {
+    vref_match::check_simd_setting().bad_input()?;
+    let (config, source) = vref_config::Config::load(args.config.as_deref()).bad_input()?;
+    tracing::info!(?source, "configuration");
+    vref_serve::run(&config).map_err(Failure::of)
 }

@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use vref_feed::{FeedArgs, Role, run_feed_with};
+use vref_logging::exit::Failure;
 
 /// The vref perception feed: publishes what the robot's camera sees as
 /// iceoryx2 snapshots. Logs go to stderr (RUST_LOG, default info).
@@ -32,9 +33,9 @@ fn main() -> ExitCode {
     ) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
-            let code = if e.is_bad_input() { 2 } else { 1 };
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            ExitCode::from(code)
+            let failure = Failure::of(e);
+            tracing::error!("{:#}", failure.error());
+            failure.exit_code()
         }
     }
 }

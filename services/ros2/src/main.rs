@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 
 /// vref on ROS 2: subscribes to the robot camera's Image and CameraInfo
 /// topics and publishes robot snapshots to the matcher; publishes its
@@ -33,21 +34,19 @@ fn main() -> ExitCode {
     let args = Args::parse();
     // RustDDS logs every discovery step at info.
     vref_logging::init("info,rustdds=warn,ros2_client=warn");
-    let (config, source) = match Config::load(args.config.as_deref()) {
-        Ok(c) => c,
-        Err(e) => {
-            tracing::error!("{:#}", anyhow::Error::from(e));
-            return ExitCode::from(2);
-        }
-    };
-    tracing::info!(?source, "configuration");
-    match vref_ros2::run(&config) {
-        Ok(_) => ExitCode::SUCCESS,
-        Err(e) => {
-            let code = if e.is_bad_input() { 2 } else { 1 };
-            let e = anyhow::Error::from(e).context("vref-ros2");
-            tracing::error!("{e:#}");
-            ExitCode::from(code)
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            tracing::error!("{:#}", failure.error());
+            failure.exit_code()
         }
     }
+}
+
+fn run(args: &Args) -> Result<(), Failure> {
+    let (config, source) = Config::load(args.config.as_deref()).bad_input()?;
+    tracing::info!(?source, "configuration");
+    vref_ros2::run(&config)
+        .map(|_| ())
+        .map_err(|e| Failure::of(e).context("vref-ros2"))
 }

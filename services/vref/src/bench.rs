@@ -3,11 +3,11 @@
 
 use anyhow::{Context, anyhow};
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_match::{Method, Tier};
 
 use crate::bench_solver::{Mode, Scenes, Timing, time_solver};
 use crate::cli::BenchSolverArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 use crate::table::Table;
 

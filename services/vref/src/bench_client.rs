@@ -3,9 +3,9 @@
 
 use vref_config::Config;
 use vref_harness::bench_client::{self, ClientBenchOptions};
+use vref_logging::exit::{Blame, Failure};
 
 use crate::cli::BenchClientArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 
 pub fn run(args: &BenchClientArgs) -> Result<(), Failure> {
@@ -15,7 +15,7 @@ pub fn run(args: &BenchClientArgs) -> Result<(), Failure> {
         duration: args.duration,
         ready_within: args.ready_within,
     };
-    let report = bench_client::run(&options, &config.ipc).runtime()?;
+    let report = bench_client::run(&options, &config.ipc).map_err(Failure::of)?;
     let text = if args.json {
         format!("{}\n", report.json(&options))
     } else {

@@ -6,10 +6,10 @@ use std::time::Instant;
 use anyhow::Context;
 use vref_config::Config;
 use vref_import::{BopDataset, BopSceneDir, BopView, datasets_in, track_ids};
+use vref_logging::exit::{Blame, Failure};
 use vref_perception::{Detection, Frame, FrontEnd, FrontEndSettings, ImageLimit, Mask};
 
 use crate::cli::BenchPerceptionArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 
 /// Timings of one dataset.

@@ -6,10 +6,10 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use anyhow::{Context, anyhow, bail};
+use vref_logging::exit::{Blame, Failure};
 use vref_viz::{Axes, Scale, line_plot_scaled};
 
 use crate::cli::BenchPlotArgs;
-use crate::failure::{Blame, Failure};
 
 /// Points of one curve, by object count.
 type Curves = BTreeMap<String, BTreeMap<u64, f64>>;

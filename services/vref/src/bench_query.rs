@@ -5,9 +5,9 @@
 use vref_config::Config;
 use vref_harness::bench_query::{self, QueryBenchOptions};
 use vref_harness::echo;
+use vref_logging::exit::{Blame, Failure};
 
 use crate::cli::{BenchQueryArgs, EchoServerArgs};
-use crate::failure::{Blame, Failure};
 use crate::{harness, stdout};
 
 pub fn query(args: &BenchQueryArgs) -> Result<(), Failure> {
@@ -24,7 +24,7 @@ pub fn query(args: &BenchQueryArgs) -> Result<(), Failure> {
         vref: harness::vref_exe()?,
     };
     let finished =
-        bench_query::run(&options, &config, &harness::bin_dir()?).map_err(harness::failure)?;
+        bench_query::run(&options, &config, &harness::bin_dir()?).map_err(Failure::of)?;
     let reports = &finished.report;
     let text = if args.json {
         format!(

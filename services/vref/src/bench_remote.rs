@@ -3,9 +3,9 @@
 
 use vref_config::Config;
 use vref_harness::bench_remote::{self, RemoteBenchOptions};
+use vref_logging::exit::{Blame, Failure};
 
 use crate::cli::BenchRemoteArgs;
-use crate::failure::{Blame, Failure};
 use crate::{harness, stdout};
 
 pub fn remote(args: &BenchRemoteArgs) -> Result<(), Failure> {
@@ -17,7 +17,7 @@ pub fn remote(args: &BenchRemoteArgs) -> Result<(), Failure> {
         encoding: args.encoding,
     };
     let finished =
-        bench_remote::run(&options, &config, &harness::bin_dir()?).map_err(harness::failure)?;
+        bench_remote::run(&options, &config, &harness::bin_dir()?).map_err(Failure::of)?;
     let text = if args.json {
         format!("{}\n", finished.report.json(&options))
     } else {

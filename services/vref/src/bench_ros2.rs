@@ -20,10 +20,10 @@ use anyhow::{Context, anyhow, bail};
 use vref_config::Config;
 use vref_harness::launch::{Services, binary, keep_logs_if, prepare};
 use vref_harness::netns;
+use vref_logging::exit::{Blame, Failure};
 use vref_perception::folder::RgbdImages;
 
 use crate::cli::BenchRos2Args;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 
 const PEER: &str = include_str!("bench_ros2_peer.py");

@@ -6,11 +6,11 @@ use std::time::Instant;
 
 use anyhow::Context;
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_perception::segment::score::{ImageScore, MeanScore, score_image};
 use vref_perception::{LabelImage, RgbdFrame, Segmentation, Segmenter};
 
 use crate::cli::BenchSegmentArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 use vref_perception::folder::{
     Camera, DEPTH_FILE, RgbdImages, camera_file_of, colour_file, frame_dirs, natural_key,

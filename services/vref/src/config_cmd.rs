@@ -1,7 +1,7 @@
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 
 use crate::cli::ConfigCheckArgs;
-use crate::failure::{Blame, Failure};
 
 pub fn check(args: &ConfigCheckArgs) -> Result<(), Failure> {
     Config::from_file(&args.file).bad_input()?;

@@ -3,9 +3,9 @@
 
 use vref_config::Config;
 use vref_harness::demo::{self, DemoOptions};
+use vref_logging::exit::{Blame, Failure};
 
 use crate::cli::DemoArgs;
-use crate::failure::{Blame, Failure};
 use crate::{harness, stdout};
 
 pub fn run(args: &DemoArgs) -> Result<(), Failure> {
@@ -25,8 +25,8 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
             stdout::print(line).map_err(|f| f.into_error().into())
         }
     };
-    let finished = demo::run(&options, &config, &harness::bin_dir()?, &mut on_line)
-        .map_err(harness::failure)?;
+    let finished =
+        demo::run(&options, &config, &harness::bin_dir()?, &mut on_line).map_err(Failure::of)?;
     if json {
         stdout::print(&format!("{}\n", finished.report.json()))?;
     } else {

@@ -3,11 +3,11 @@ use std::io::BufReader;
 
 use anyhow::{Context, anyhow};
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_match::{Evaluation, Method, MethodReport};
 use vref_scene::DatasetReader;
 
 use crate::cli::EvalArgs;
-use crate::failure::{Blame, Failure};
 use crate::progress;
 use crate::stdout;
 use crate::table::Table;

@@ -1,12 +1,10 @@
 //! What the command line needs around vref_harness: where the service
-//! binaries are, and which exit code a runner's error means.
+//! binaries are.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
-use vref_harness::RunError;
-
-use crate::failure::{Blame, Failure};
+use vref_logging::exit::{Blame, Failure};
 
 /// The folder of this binary, where the service binaries are installed.
 pub fn bin_dir() -> Result<PathBuf, Failure> {
@@ -20,13 +18,4 @@ pub fn bin_dir() -> Result<PathBuf, Failure> {
 /// the viewer).
 pub fn vref_exe() -> Result<PathBuf, Failure> {
     std::env::current_exe().context("locating vref").runtime()
-}
-
-/// Exit code 2 for the caller's input, 1 for the rest.
-pub fn failure(error: RunError) -> Failure {
-    if error.is_bad_input() {
-        Failure::BadInput(error.into())
-    } else {
-        Failure::Runtime(error.into())
-    }
 }

@@ -5,10 +5,10 @@ use anyhow::Context;
 use anyhow::anyhow;
 use vref_config::Config;
 use vref_import::{BopDataset, BopImport, BopOptions, CmuHouse, CmuHouseOptions};
+use vref_logging::exit::{Blame, Failure};
 use vref_scene::{DatasetWriter, ScenePair};
 
 use crate::cli::{BopArgs, CmuHouseArgs};
-use crate::failure::{Blame, Failure};
 
 pub fn cmu_house(args: &CmuHouseArgs) -> Result<(), Failure> {
     let house = CmuHouse::load(&args.dir).bad_input()?;

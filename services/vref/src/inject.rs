@@ -8,12 +8,11 @@ use std::time::Duration;
 use clap::{Args, ValueEnum};
 use vref_config::Config;
 use vref_inject::{Kind, Message, Target};
+use vref_logging::exit::{Blame, Failure};
 use vref_scene::Side;
 use vref_wire::ipc::{
-    GesturePublisher, SnapshotPublisher, create_node, now_ns, open_gesture, open_snapshot,
+    GesturePublisher, SnapshotPublisher, create_node, drain, now_ns, open_gesture, open_snapshot,
 };
-
-use crate::failure::{Blame, Failure};
 
 /// How long the publisher stays after its last message, and between the
 /// messages of kinds that must be taken one at a time. A subscriber opens
@@ -140,7 +139,7 @@ fn live_session(
             .create()
             .map_err(|e| anyhow::anyhow!("subscribing to rays: {e:?}"))?;
         while std::time::Instant::now() < deadline {
-            if let Some(sample) = sub.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+            if let Some(sample) = newest(&sub)? {
                 return Ok(sample.payload().session);
             }
             std::thread::sleep(Duration::from_millis(20));
@@ -153,12 +152,20 @@ fn live_session(
         .create()
         .map_err(|e| anyhow::anyhow!("subscribing to snapshots: {e:?}"))?;
     while std::time::Instant::now() < deadline {
-        if let Some(sample) = sub.receive().map_err(|e| anyhow::anyhow!("{e:?}"))? {
+        if let Some(sample) = newest(&sub)? {
             return Ok(sample.user_header().session);
         }
         std::thread::sleep(Duration::from_millis(20));
     }
     Err(gone())
+}
+
+/// The newest sample waiting: the live feed's session, even when an older
+/// one's sample is still queued.
+fn newest<R: drain::Receive>(sub: &R) -> anyhow::Result<Option<R::Sample>> {
+    drain::newest(sub)
+        .into_result()
+        .map_err(|e| anyhow::anyhow!("{e:?}"))
 }
 
 /// A session id of this run: the start time mixed with the process id, so

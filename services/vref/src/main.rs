@@ -1,9 +1,9 @@
 //! `vref`: the command line of vref.
 //!
-//! Exit codes: 0 success, 1 failure while running, 2 bad input (usage,
-//! configuration, data set), so scripts can tell "you asked wrong" from
-//! "it broke"; `vref query` also 3, 4 and 5 for a bad_request, not_ready
-//! or stale answer (query.rs, exit_code).
+//! Exit codes: the rule of every binary (vref_logging::exit): 0 success,
+//! 1 failure while running, 2 bad input (usage, configuration, data set);
+//! `vref query` also 3, 4 and 5 for a bad_request, not_ready or stale
+//! answer (query.rs, exit_code).
 
 mod bench;
 mod bench_client;
@@ -18,7 +18,6 @@ mod cli;
 mod config_cmd;
 mod demo;
 mod eval;
-mod failure;
 mod harness;
 mod import;
 mod inject;
@@ -39,6 +38,7 @@ mod wire_layout;
 use std::process::ExitCode;
 
 use clap::Parser;
+use vref_logging::exit::{Blame, Failure};
 
 use crate::cli::{BenchCommand, Cli, Command, ConfigCommand, ImportCommand};
 
@@ -48,11 +48,20 @@ fn main() -> ExitCode {
     // reaches vref, which then says the same once: its own warnings only
     // with RUST_LOG.
     vref_logging::init("warn,zenoh=error");
-    if let Err(e) = vref_match::check_simd_setting() {
-        eprintln!("vref: {e}");
-        return ExitCode::from(2);
+    match vref_match::check_simd_setting()
+        .bad_input()
+        .and_then(|()| run(cli.command))
+    {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            eprintln!("vref: {:#}", failure.error());
+            failure.exit_code()
+        }
     }
-    let result = match cli.command {
+}
+
+fn run(command: Command) -> Result<(), Failure> {
+    match command {
         Command::Eval(args) => eval::run(&args),
         Command::Import(ImportCommand::CmuHouse(args)) => import::cmu_house(&args),
         Command::Import(ImportCommand::Bop(args)) => import::bop(&args),
@@ -77,12 +86,5 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Client(args)) => bench_client::run(&args),
         Command::Bench(BenchCommand::EchoServer(args)) => bench_query::echo_server(&args),
         Command::WireLayout(args) => wire_layout::run(&args),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(failure) => {
-            eprintln!("vref: {:#}", failure.error());
-            failure.exit_code()
-        }
     }
 }

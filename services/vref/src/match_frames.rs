@@ -8,6 +8,7 @@ use std::path::Path;
 
 use anyhow::Context;
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_match::{Method, OkRule, Params, Problem, Solution, SolveOptions, Verdict, solve_with};
 use vref_perception::folder::RgbdImages;
 use vref_perception::{
@@ -18,7 +19,6 @@ use vref_scene::{Limits, SceneGraph, SceneObject};
 use vref_viz::{Answer, AnswerPicture, AnswerStatus, ImageObject, ViewImage};
 
 use crate::cli::MatchArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 
 /// One camera's frame, its labels and what the front end measured.

@@ -4,11 +4,11 @@ use anyhow::Context;
 use vref_bridge::RemoteClient;
 use vref_bridge::json::AnswerJson;
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_wire::ipc::{IpcError, ReferenceClient};
 use vref_wire::{AnswerStatus, ReferenceAnswer, ReferenceQuery};
 
 use crate::cli::QueryArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 
 pub fn run(args: &QueryArgs) -> Result<(), Failure> {

@@ -6,13 +6,13 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, anyhow};
 use iceoryx2::prelude::*;
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_record::{Frame, RecordedRay, RecordedSnapshot, RecordingWriter};
 use vref_scene::Side;
 use vref_view::ViewOptions;
-use vref_wire::ipc::{create_node, open_gesture, open_snapshot, termination_requested};
+use vref_wire::ipc::{create_node, drain, open_gesture, open_snapshot, termination_requested};
 
 use crate::cli::RecordArgs;
-use crate::failure::{Blame, Failure};
 
 /// Longest sleep between checks of the clock.
 const TICK: Duration = Duration::from_millis(100);
@@ -197,17 +197,24 @@ fn record(
             Ok(()) => frames += 1,
             Err(e) => failure = Some(e.into()),
         };
+        // A failed receive is logged and the next turn tries again.
         for (side, sub) in [(Side::Robot, &robot), (Side::Human, &human)] {
-            while let Ok(Some(sample)) = sub.receive() {
+            let taken = drain::each(sub, |sample| {
                 write(Frame::Snapshot(RecordedSnapshot::from_wire(
                     side,
                     sample.user_header(),
                     sample.payload(),
-                )));
+                )))
+            });
+            if let Err(e) = taken {
+                tracing::warn!(%side, "receiving a snapshot: {e:?}");
             }
         }
-        while let Ok(Some(sample)) = gesture.receive() {
-            write(Frame::Gesture(RecordedRay::from_wire(sample.payload())));
+        let taken = drain::each(&gesture, |sample| {
+            write(Frame::Gesture(RecordedRay::from_wire(sample.payload())))
+        });
+        if let Err(e) = taken {
+            tracing::warn!("receiving a ray: {e:?}");
         }
     }
     match failure {

@@ -4,11 +4,11 @@ use std::io::{BufWriter, ErrorKind, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
+use vref_logging::exit::{Blame, Failure};
 use vref_scene::{DatasetWriter, ScenePair};
 use vref_sim::{Generator, Preset, RigidScene};
 
 use crate::cli::ScenesArgs;
-use crate::failure::{Blame, Failure};
 
 /// Where scene pairs come from: a generator preset, or the solver
 /// benchmark's rigid scenes.

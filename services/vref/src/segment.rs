@@ -6,13 +6,13 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_perception::folder::{
     Camera, DEPTH_FILE, RgbdImages, camera_file_of, colour_file, frame_dirs,
 };
 use vref_perception::{LabelImage, RgbdFrame, Segmentation, Segmenter, segment::overlay};
 
 use crate::cli::SegmentArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 
 #[derive(Debug, serde::Serialize)]

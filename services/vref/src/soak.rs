@@ -2,9 +2,9 @@
 
 use vref_config::Config;
 use vref_harness::soak::{self, SoakOptions};
+use vref_logging::exit::{Blame, Failure};
 
 use crate::cli::SoakArgs;
-use crate::failure::{Blame, Failure};
 use crate::{harness, stdout};
 
 pub fn run(args: &SoakArgs) -> Result<(), Failure> {
@@ -16,7 +16,7 @@ pub fn run(args: &SoakArgs) -> Result<(), Failure> {
         query_rate: args.query_rate,
         timeout: args.timeout(),
     };
-    let finished = soak::run(&options, &config, &harness::bin_dir()?).map_err(harness::failure)?;
+    let finished = soak::run(&options, &config, &harness::bin_dir()?).map_err(Failure::of)?;
     if args.json {
         stdout::print(&format!("{}\n", finished.report.json()))?;
     } else {

@@ -1,6 +1,5 @@
 use std::io::{ErrorKind, Write};
-
-use crate::failure::{Blame, Failure};
+use vref_logging::exit::{Blame, Failure};
 
 /// Writes `text` to stdout. A reader that went away (`vref eval | head`)
 /// ends the output quietly, as other Unix tools do; any other write error

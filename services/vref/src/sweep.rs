@@ -6,11 +6,11 @@ use std::path::Path;
 
 use anyhow::{Context, anyhow};
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_match::{Method, Stat};
 use vref_sim::{DEFAULT_LEVELS, Preset, Sweep, SweepError, SweepPoint, accuracy_curves};
 
 use crate::cli::EvalArgs;
-use crate::failure::{Blame, Failure};
 use crate::progress;
 use crate::stdout;
 use crate::table::Table;

@@ -6,11 +6,11 @@ use std::sync::Arc;
 use anyhow::Context;
 use vref_config::Config;
 use vref_feed::BopWorld;
+use vref_logging::exit::{Blame, Failure};
 use vref_view::images::Images;
 use vref_view::{Counts, Started, ViewError, ViewOptions};
 
 use crate::cli::ViewArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 
 pub fn run(args: &ViewArgs) -> Result<(), Failure> {

@@ -6,6 +6,7 @@ use std::path::Path;
 use anyhow::{Context, anyhow};
 use vref_config::Config;
 use vref_import::{BopDataset, BopOptions, BopScene, MeasuredView, outline};
+use vref_logging::exit::{Blame, Failure};
 use vref_match::{Method, Params, Problem, solve};
 use vref_scene::{DatasetReader, ScenePair};
 use vref_viz::{
@@ -13,7 +14,6 @@ use vref_viz::{
 };
 
 use crate::cli::VizArgs;
-use crate::failure::{Blame, Failure};
 
 pub fn run(args: &VizArgs) -> Result<(), Failure> {
     let (config, source) = Config::load(args.config.as_deref()).bad_input()?;

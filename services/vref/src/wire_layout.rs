@@ -5,12 +5,12 @@
 
 use serde_json::{Value, json};
 use vref_config::Config;
+use vref_logging::exit::{Blame, Failure};
 use vref_reference::RejectReason;
 use vref_wire::ipc::{IpcSettings, Pattern, catalogue};
 use vref_wire::layout::{Codes, codes, constants, wire_types};
 
 use crate::cli::WireLayoutArgs;
-use crate::failure::{Blame, Failure};
 use crate::stdout;
 use crate::table::Table;
 

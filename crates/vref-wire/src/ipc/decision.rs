@@ -4,7 +4,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use super::error::{IpcError, iceoryx_err};
-use super::{IpcSettings, Node, create_node, open_decision, slice_publisher_qos};
+use super::{IpcSettings, Node, create_node, drain, open_decision, slice_publisher_qos};
 use crate::{DecisionEntry, DecisionHeader, MAX_DECISION_PAIRS, SCHEMA_VERSION};
 
 /// The matcher's side: publishes each finished solve's decision, written in
@@ -152,14 +152,9 @@ impl DecisionReader {
     /// The newest decision published since the last call, if any; a
     /// malformed one is an error and is skipped.
     pub fn latest(&self) -> Result<Option<Result<Decision, DecisionError>>, IpcError> {
-        let mut latest = None;
-        while let Some(sample) = self
-            .subscriber
-            .receive()
-            .map_err(|e| iceoryx_err("receiving a decision", e))?
-        {
-            latest = Some(Decision::read(sample.user_header(), sample.payload()));
-        }
-        Ok(latest)
+        let newest = drain::newest(&self.subscriber)
+            .into_result()
+            .map_err(|e| iceoryx_err("receiving a decision", e))?;
+        Ok(newest.map(|sample| Decision::read(sample.user_header(), sample.payload())))
     }
 }

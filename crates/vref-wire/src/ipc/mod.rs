@@ -4,6 +4,7 @@
 
 mod client;
 mod decision;
+pub mod drain;
 mod error;
 mod names;
 mod node;

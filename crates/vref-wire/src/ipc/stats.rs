@@ -3,7 +3,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use super::error::{IpcError, iceoryx_err};
-use super::{IpcSettings, Node, create_node, open_stats};
+use super::{IpcSettings, Node, create_node, drain, open_stats};
 use crate::MatcherStats;
 
 /// The matcher's side: publishes its statistics.
@@ -68,14 +68,9 @@ impl StatsReader {
 
     /// The newest statistics published since the last call, if any.
     pub fn latest(&self) -> Result<Option<MatcherStats>, IpcError> {
-        let mut latest = None;
-        while let Some(sample) = self
-            .subscriber
-            .receive()
-            .map_err(|e| iceoryx_err("receiving stats", e))?
-        {
-            latest = Some(*sample.payload());
-        }
-        Ok(latest)
+        let newest = drain::newest(&self.subscriber)
+            .into_result()
+            .map_err(|e| iceoryx_err("receiving stats", e))?;
+        Ok(newest.map(|sample| *sample.payload()))
     }
 }

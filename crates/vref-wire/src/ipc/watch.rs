@@ -3,7 +3,7 @@ use iceoryx2::prelude::*;
 use vref_scene::Side;
 
 use super::error::{IpcError, iceoryx_err};
-use super::{IpcSettings, Node, create_node, open_snapshot};
+use super::{IpcSettings, Node, create_node, drain, open_snapshot};
 use crate::{ObjectEntry, SnapshotHeader};
 
 /// Watches one side's snapshots without reading their objects: for tools
@@ -40,14 +40,9 @@ impl SnapshotWatch {
     /// The header of the newest snapshot that arrived since the last call
     /// (or the one kept for a late subscriber), if any.
     pub fn latest(&self) -> Result<Option<SnapshotHeader>, IpcError> {
-        let mut latest = None;
-        while let Some(sample) = self
-            .subscriber
-            .receive()
-            .map_err(|e| iceoryx_err("receiving a snapshot", e))?
-        {
-            latest = Some(*sample.user_header());
-        }
-        Ok(latest)
+        let newest = drain::newest(&self.subscriber)
+            .into_result()
+            .map_err(|e| iceoryx_err("receiving a snapshot", e))?;
+        Ok(newest.map(|sample| *sample.user_header()))
     }
 }
