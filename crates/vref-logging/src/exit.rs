@@ -81,6 +81,18 @@ impl Failure {
     }
 }
 
+/// How a service's `main` ends: 0, or its failure logged with its causes
+/// and its exit code.
+pub fn finish<T>(result: Result<T, Failure>) -> ExitCode {
+    match result {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(failure) => {
+            tracing::error!("{:#}", failure.error());
+            failure.exit_code()
+        }
+    }
+}
+
 /// Marks an error as the caller's (bad input) or the program's (runtime).
 pub trait Blame<T> {
     fn bad_input(self) -> Result<T, Failure>;

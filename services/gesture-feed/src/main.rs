@@ -27,12 +27,8 @@ struct Args {
 fn main() -> ExitCode {
     let args = Args::parse();
     vref_logging::init("info");
-    match run_feed_with(Role::Gesture, &args.feed, Some(&vref_ros2::bag::FeedBags)) {
-        Ok(_) => ExitCode::SUCCESS,
-        Err(e) => {
-            let failure = Failure::of(e);
-            tracing::error!("{:#}", failure.error());
-            failure.exit_code()
-        }
-    }
+    vref_logging::exit::finish(
+        run_feed_with(Role::Gesture, &args.feed, Some(&vref_ros2::bag::FeedBags))
+            .map_err(Failure::of),
+    )
 }

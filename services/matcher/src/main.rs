@@ -29,13 +29,7 @@ struct Args {
 fn main() -> ExitCode {
     let args = Args::parse();
     vref_logging::init("info");
-    match run(&args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(failure) => {
-            tracing::error!("{:#}", failure.error());
-            failure.exit_code()
-        }
-    }
+    vref_logging::exit::finish(run(&args))
 }
 
 fn run(args: &Args) -> Result<(), Failure> {

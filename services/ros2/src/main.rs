@@ -34,13 +34,7 @@ fn main() -> ExitCode {
     let args = Args::parse();
     // RustDDS logs every discovery step at info.
     vref_logging::init("info,rustdds=warn,ros2_client=warn");
-    match run(&args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(failure) => {
-            tracing::error!("{:#}", failure.error());
-            failure.exit_code()
-        }
-    }
+    vref_logging::exit::finish(run(&args))
 }
 
 fn run(args: &Args) -> Result<(), Failure> {
