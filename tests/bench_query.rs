@@ -68,19 +68,6 @@ fn a_short_run_reports_cached_solved_and_bare_round_trips() {
         let p999 = report[format!("{kind}_p999_us")].as_f64().unwrap();
         assert!(p999 <= 2e6, "{kind}: {report}");
     }
-    let ratio = report["ratio_p99"].as_f64().unwrap();
-    let expected =
-        report["cached_p99_us"].as_f64().unwrap() / report["bare_p99_us"].as_f64().unwrap();
-    assert!(
-        (ratio - expected).abs() <= 0.001 * expected.max(1.0),
-        "{report}"
-    );
-    let all = report["ratio_all_p99"].as_f64().unwrap();
-    let expected = report["all_p99_us"].as_f64().unwrap() / report["bare_p99_us"].as_f64().unwrap();
-    assert!(
-        (all - expected).abs() <= 0.001 * expected.max(1.0),
-        "{report}"
-    );
     // The idle phase's feeds publish where the matcher does not hear
     // them: it solves nothing then, and everything once they are heard.
     assert_eq!(report["idle_solve_time_count"], 0, "{report}");

@@ -598,4 +598,46 @@ mod tests {
             (1, 2, 1, 4)
         );
     }
+
+    /// Each ratio divides the figures its name says, over samples whose
+    /// percentiles are known (one value each).
+    #[test]
+    fn the_reports_ratios_divide_the_figures_they_name() {
+        let one = |us: u64| {
+            let mut s = Samples::default();
+            s.push(Duration::from_micros(us));
+            s
+        };
+        let busy = Report {
+            all: one(600),
+            cached: one(300),
+            solve: one(900),
+            bare: one(100),
+            ..Report::default()
+        };
+        let idle = Report {
+            all: one(200),
+            ..Report::default()
+        };
+        let options = QueryBenchOptions {
+            objects: 8,
+            with_viewer: false,
+            rate: 100.0,
+            duration: Duration::from_secs(1),
+            compare_idle: true,
+            vref: PathBuf::from("vref"),
+        };
+        let json = busy.json(&options, &Config::default(), Some(&idle));
+        let close = |key: &str, expected: f64| {
+            let value = json[key].as_f64().unwrap();
+            assert!(
+                (value - expected).abs() < 1e-9,
+                "{key}: {value}, not {expected}"
+            );
+        };
+        close("ratio_p99", 3.0);
+        close("ratio_p50", 3.0);
+        close("ratio_all_p99", 6.0);
+        close("ratio_busy_idle_p99", 3.0);
+    }
 }
