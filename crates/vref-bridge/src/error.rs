@@ -104,16 +104,11 @@ pub enum BridgeError {
     },
 }
 
-impl BridgeError {
-    /// Whether the configuration is at fault (exit code 2), not the run.
-    pub fn is_configuration(&self) -> bool {
-        matches!(self, Self::Config(_))
-    }
-}
-
+/// Only `[bridge]` is the caller's fault (exit code 2); the rest broke
+/// while running.
 impl vref_logging::exit::Fault for BridgeError {
     fn is_bad_input(&self) -> bool {
-        self.is_configuration()
+        matches!(self, Self::Config(_))
     }
 }
 

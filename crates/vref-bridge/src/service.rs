@@ -134,6 +134,7 @@ fn report(stats: &BridgeStats) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use vref_logging::exit::Fault;
 
     #[test]
     fn a_bad_prefix_is_a_configuration_error_before_anything_opens() {
@@ -144,6 +145,6 @@ mod tests {
             matches!(&e, Err(BridgeError::Config(NetError::Prefix { .. }))),
             "{e:?}"
         );
-        assert!(e.is_err_and(|e| e.is_configuration()));
+        assert!(e.is_err_and(|e| e.is_bad_input()));
     }
 }

@@ -18,6 +18,7 @@ use vref_bridge::{
     BridgeError, BridgeStats, ErrorReply, Format, Keys, Message, RemoteClient, json,
 };
 use vref_config::Config;
+use vref_logging::exit::Fault;
 use vref_scene::Side;
 use vref_testkit::{bridge_session, eventually, free_port};
 use vref_wire::ipc::{
@@ -333,5 +334,5 @@ fn a_bad_zenoh_endpoint_is_a_configuration_error() {
     // own check refuses it.
     config.bridge.listen = vec!["nonsense".to_owned()];
     let e = Bridge::start(&config).stop().unwrap_err();
-    assert!(e.is_configuration(), "{e:?}");
+    assert!(e.is_bad_input(), "{e:?}");
 }

@@ -2,9 +2,10 @@ use std::time::{Duration, Instant};
 
 use vref_scene::ScenePair;
 
+use crate::calibration::ECE_BINS;
 use crate::{
-    ECE_BINS, MatchError, Method, OkRule, Params, Problem, SceneScore, SolveOptions, Summary, Tier,
-    Verdict, expected_calibration_error, score_scene, solve_with,
+    MatchError, Method, OkRule, Params, Problem, SceneScore, SolveOptions, Summary, Tier, Verdict,
+    expected_calibration_error, score_scene, solve_with,
 };
 
 /// Scores of several methods accumulated scene by scene.
@@ -67,7 +68,7 @@ pub struct MethodReport {
     /// Mean wall time of building the affinities, solving and discretising.
     pub mean_solve: Duration,
     /// Expected calibration error of the confidence over every human
-    /// object of every scene ([`ECE_BINS`] equal-width bins).
+    /// object of every scene (`ECE_BINS` equal-width bins).
     pub ece: f64,
 }
 

@@ -36,7 +36,11 @@ mod spatial_term;
 mod tier;
 
 pub use appearance::appearance_affinity;
-pub use calibration::{Calibration, ECE_BINS, expected_calibration_error, logit};
+// The experiments score calibration as `vref eval` does; nothing else
+// needs the bin count.
+#[cfg(feature = "research")]
+pub use calibration::ECE_BINS;
+pub use calibration::{Calibration, expected_calibration_error, logit};
 pub use candidates::candidate_pairs;
 pub use cpu::{UnknownSimd, check_simd_setting};
 pub use distances::distance_matrix;

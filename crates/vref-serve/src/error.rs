@@ -24,15 +24,10 @@ pub enum ServeError {
     Thread(#[source] std::io::Error),
 }
 
-impl ServeError {
-    /// Whether the configuration is at fault (exit code 2), not the run.
-    pub fn is_configuration(&self) -> bool {
-        matches!(self, Self::Config(_))
-    }
-}
-
+/// Only the configuration is the caller's fault (exit code 2); the rest
+/// broke while running.
 impl vref_logging::exit::Fault for ServeError {
     fn is_bad_input(&self) -> bool {
-        self.is_configuration()
+        matches!(self, Self::Config(_))
     }
 }

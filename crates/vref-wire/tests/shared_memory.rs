@@ -3,10 +3,9 @@
 //! prefix.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::os::unix::ffi::OsStrExt;
-
 use iceoryx2::prelude::*;
 use vref_scene::{Limits, Side};
+use vref_wire::ipc::{IpcSettings, create_node};
 use vref_wire::{
     FRAME_NAME_LEN, MAX_FEATURE_DIM, ObjectEntry, SCHEMA_VERSION, SideCode, SnapshotHeader,
     validate_snapshot,
@@ -15,16 +14,12 @@ use vref_wire::{
 #[test]
 fn snapshot_round_trip_through_shared_memory() {
     let root = tempfile::tempdir().unwrap();
-    let mut config = Config::default();
-    let mut root_path = root.path().as_os_str().as_bytes().to_vec();
-    root_path.push(b'/');
-    config.global.set_root_path(&Path::new(&root_path).unwrap());
-    config.global.prefix =
-        FileName::new(format!("vref_wire_{}_", std::process::id()).as_bytes()).unwrap();
-    let node = NodeBuilder::new()
-        .config(&config)
-        .create::<ipc::Service>()
-        .unwrap();
+    let settings = IpcSettings {
+        root_path: Some(root.path().to_owned()),
+        prefix: format!("vref_wire_{}_", std::process::id()),
+        ..IpcSettings::default()
+    };
+    let node = create_node(&settings, "wire-test").unwrap();
     let service = node
         .service_builder(&"vref/test/robot/snapshot".try_into().unwrap())
         .publish_subscribe::<[ObjectEntry]>()
@@ -94,7 +89,7 @@ fn snapshot_round_trip_through_shared_memory() {
 #[test]
 fn a_published_up_vector_arrives_and_a_missing_one_stays_missing() {
     use vref_scene::{SceneGraph, SceneObject};
-    use vref_wire::ipc::{IpcSettings, SnapshotPublisher, create_node, open_snapshot};
+    use vref_wire::ipc::{SnapshotPublisher, open_snapshot};
     use vref_wire::wire_up;
 
     let root = tempfile::tempdir().unwrap();
@@ -148,7 +143,6 @@ fn a_published_up_vector_arrives_and_a_missing_one_stays_missing() {
 
 #[test]
 fn nodes_are_created_from_the_shipped_iceoryx2_config_with_vref_overrides() {
-    use vref_wire::ipc::{IpcSettings, create_node};
     let root = tempfile::tempdir().unwrap();
     let shipped =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../config/iceoryx2.toml");
@@ -179,7 +173,7 @@ fn nodes_are_created_from_the_shipped_iceoryx2_config_with_vref_overrides() {
 
 #[test]
 fn a_decision_round_trips_through_its_service() {
-    use vref_wire::ipc::{Decision, DecisionPublisher, DecisionReader, IpcSettings, create_node};
+    use vref_wire::ipc::{Decision, DecisionPublisher, DecisionReader};
     use vref_wire::{AnswerStatus, DecisionEntry, DecisionHeader};
 
     let root = tempfile::tempdir().unwrap();

@@ -6,9 +6,8 @@
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use nix::sys::signal::{Signal, kill};
-use nix::unistd::Pid;
-use vref_testkit::{eventually, exit_within};
+use nix::sys::signal::Signal;
+use vref_testkit::{Harness, eventually};
 
 fn matcher() -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_vref-matcher"));
@@ -46,35 +45,17 @@ fn a_bad_configuration_exits_2_naming_the_problem() {
 
 #[test]
 fn sigterm_stops_it_with_exit_0() {
-    let dir = tempfile::tempdir().unwrap();
-    let root = dir.path().join("iox");
-    std::fs::create_dir_all(&root).unwrap();
-    let file = dir.path().join("vref.toml");
-    let prefix = format!("mcli{}_", std::process::id());
-    std::fs::write(
-        &file,
-        format!(
-            "[ipc]\nroot_path = \"{}\"\nprefix = \"{prefix}\"\n",
-            root.display()
-        ),
-    )
-    .unwrap();
-    let log = dir.path().join("matcher.log");
-    let mut child = matcher()
-        .arg("--config")
-        .arg(&file)
-        .stderr(std::fs::File::create(&log).unwrap())
-        .spawn()
-        .unwrap();
+    let mut harness = Harness::new("mcli", "");
+    harness.start("matcher", "vref-matcher", &[]);
     eventually(Duration::from_secs(20), "matcher ready", || {
-        let text = std::fs::read_to_string(&log).unwrap();
-        text.contains("matcher ready").then_some(())
+        harness
+            .log("matcher")
+            .contains("matcher ready")
+            .then_some(())
     });
-    kill(Pid::from_raw(child.id() as i32), Signal::SIGTERM).unwrap();
-    let status = exit_within(&mut child, Duration::from_secs(10), || {
-        "the matcher after SIGTERM".to_owned()
-    });
+    harness.signal("matcher", Signal::SIGTERM);
+    let status = harness.wait("matcher", Duration::from_secs(10));
     assert_eq!(status.code(), Some(0));
-    let text = std::fs::read_to_string(&log).unwrap();
+    let text = harness.log("matcher");
     assert!(text.contains("matcher stopped"), "{text}");
 }

@@ -107,23 +107,18 @@ pub fn each<R: Receive + ?Sized>(
 #[cfg(test)]
 #[allow(clippy::unwrap_used, clippy::expect_used)]
 mod tests {
-    use std::os::unix::ffi::OsStrExt;
-
     use super::*;
+    use crate::ipc::{IpcSettings, create_node};
 
     /// A node of its own under a fresh root path and prefix, so that no
     /// other test or running service shares its services.
     fn node(root: &tempfile::TempDir, tag: &str) -> Node<ipc::Service> {
-        let mut config = Config::default();
-        let mut root_path = root.path().as_os_str().as_bytes().to_vec();
-        root_path.push(b'/');
-        config.global.set_root_path(&Path::new(&root_path).unwrap());
-        config.global.prefix =
-            FileName::new(format!("vref_drain_{tag}_{}_", std::process::id()).as_bytes()).unwrap();
-        NodeBuilder::new()
-            .config(&config)
-            .create::<ipc::Service>()
-            .unwrap()
+        let settings = IpcSettings {
+            root_path: Some(root.path().to_owned()),
+            prefix: format!("vref_drain_{tag}_{}_", std::process::id()),
+            ..IpcSettings::default()
+        };
+        create_node(&settings, "drain-test").unwrap()
     }
 
     fn sized(

@@ -101,6 +101,8 @@ impl RigidMotion {
     }
 
     /// Root mean square distance between the moved `from` and `to`.
+    // Only the experiments (vref-research) and the tests measure it.
+    #[cfg(any(test, feature = "research"))]
     pub fn rms(&self, from: &[Point3<f64>], to: &[Point3<f64>]) -> f64 {
         let k = from.len().min(to.len());
         if k == 0 {
