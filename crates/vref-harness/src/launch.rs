@@ -283,6 +283,30 @@ impl Services {
             .map(|(_, c)| c.id())
     }
 
+    /// Service `name`'s process, to signal it or ask whether it exited.
+    pub fn child(&mut self, name: &str) -> Option<&mut Child> {
+        self.children
+            .iter_mut()
+            .find(|(n, _)| n == name)
+            .map(|(_, c)| c)
+    }
+
+    /// Service `name`'s process, no longer one of these: the caller waits
+    /// for it (and reaps it) itself.
+    pub fn remove(&mut self, name: &str) -> Option<Child> {
+        let index = self.children.iter().position(|(n, _)| n == name)?;
+        Some(self.children.remove(index).1)
+    }
+
+    /// SIGKILL to each, then reaps them: for a run that is abandoned, where
+    /// an orderly stop would only wait.
+    pub fn kill_all(&mut self) {
+        for (_, mut child) in self.children.drain(..) {
+            child.kill().ok();
+            child.wait().ok();
+        }
+    }
+
     /// What service `name` logged so far.
     pub fn log(&self, name: &str) -> String {
         std::fs::read_to_string(self.logs.join(format!("{name}.log"))).unwrap_or_default()
@@ -355,6 +379,30 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let e = prepare(&Config::default(), dir.path(), "t", "vt").unwrap_err();
         assert!(e.to_string().contains("vref-matcher not found in"), "{e}");
+    }
+
+    #[test]
+    fn a_service_can_be_handed_over_and_the_rest_killed_at_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut services = Services::new(dir.path());
+        for name in ["kept", "handed"] {
+            let mut sleeper = Command::new("sleep");
+            sleeper.arg("30");
+            services.spawn(name, sleeper).unwrap();
+        }
+        assert!(services.child("nobody").is_none());
+        let kept = services.child("kept").unwrap().id();
+        assert_eq!(services.pid("kept"), Some(kept));
+        let mut handed = services.remove("handed").unwrap();
+        assert!(services.pid("handed").is_none());
+        services.kill_all();
+        assert!(services.pid("kept").is_none());
+        // Reaped: no process of that id is left to signal.
+        let gone = kill(Pid::from_raw(kept as i32), None);
+        assert!(gone.is_err(), "{kept} is still there");
+        assert_eq!(handed.try_wait().unwrap(), None, "the handed-over one runs");
+        handed.kill().unwrap();
+        handed.wait().unwrap();
     }
 
     #[test]

@@ -1,20 +1,21 @@
 //! Real service processes for system tests: each harness has its own
 //! iceoryx2 root path and prefix, so tests never see each other.
 //!
-//! Beside `vref_harness::launch` (the launcher of `vref demo`, `soak` and
-//! the benchmarks), because tests need what a run does not: any arguments
-//! per process, a process's exit status after a signal, SIGKILL of one
-//! process, and a watchdog per test. What is the same thing is shared:
-//! the binary lookup ([`crate::binary`]) and the readiness wait
-//! ([`crate::eventually`]).
+//! The processes are `vref_harness::launch::Services`, the launcher of
+//! `vref demo`, `soak` and the benchmarks; a harness adds what tests need
+//! and a run does not: any arguments per process, a process's exit status
+//! after a signal, SIGKILL of one process, a watchdog per test, and
+//! panics instead of errors. The binary lookup ([`crate::binary`]) and the
+//! readiness wait ([`crate::eventually`]) are shared too.
 
 use std::path::PathBuf;
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Child, Command, ExitStatus};
 use std::sync::{Arc, Mutex, mpsc};
 use std::time::Duration;
 
 use nix::sys::signal::{Signal, kill};
 use nix::unistd::Pid;
+use vref_harness::launch::Services;
 
 use crate::wait::exit_within;
 use crate::watchdog::{Pids, test_limit, watchdog};
@@ -24,7 +25,7 @@ use crate::watchdog::{Pids, test_limit, watchdog};
 pub struct Harness {
     pub dir: tempfile::TempDir,
     pub config: PathBuf,
-    children: Vec<(String, Child)>,
+    services: Services,
     pids: Pids,
     _watchdog: mpsc::Sender<()>,
 }
@@ -44,10 +45,11 @@ impl Harness {
         std::fs::write(&config, text).unwrap();
         let pids = Arc::new(Mutex::new(Vec::new()));
         let watchdog = watchdog(dir.path(), Arc::clone(&pids), test_limit());
+        let services = Services::new(dir.path());
         Self {
             dir,
             config,
-            children: Vec::new(),
+            services,
             pids,
             _watchdog: watchdog,
         }
@@ -56,46 +58,42 @@ impl Harness {
     /// Starts `bin` with `--config` and `args`; its logs go to a file
     /// named after `name` in the harness directory.
     pub fn start(&mut self, name: &str, bin: &str, args: &[&str]) {
-        let log = std::fs::File::create(self.dir.path().join(format!("{name}.log"))).unwrap();
-        let child = Command::new(crate::binary(bin))
+        let mut command = Command::new(crate::binary(bin));
+        command
             .arg("--config")
             .arg(&self.config)
             .args(args)
-            .env("RUST_LOG", "info")
-            .stdin(Stdio::null())
-            .stdout(log.try_clone().unwrap())
-            .stderr(log)
-            .spawn()
+            .env("RUST_LOG", "info");
+        self.services
+            .spawn(name, command)
             .unwrap_or_else(|e| panic!("starting {bin}: {e}"));
-        self.pids
-            .lock()
-            .unwrap()
-            .push((name.to_owned(), child.id()));
-        self.children.push((name.to_owned(), child));
+        let pid = self.pid(name);
+        self.pids.lock().unwrap().push((name.to_owned(), pid));
     }
 
-    fn index(&self, name: &str) -> usize {
-        self.children
-            .iter()
-            .position(|(n, _)| n == name)
+    fn child(&mut self, name: &str) -> &mut Child {
+        self.services
+            .child(name)
             .unwrap_or_else(|| panic!("no process {name}"))
     }
 
     pub fn signal(&mut self, name: &str, signal: Signal) {
-        let pid = self.children[self.index(name)].1.id();
+        let pid = self.child(name).id();
         kill(Pid::from_raw(pid as i32), signal).unwrap();
     }
 
     /// Waits for `name` to exit, at most `limit`; removes it.
     pub fn wait(&mut self, name: &str, limit: Duration) -> ExitStatus {
-        let index = self.index(name);
+        let mut child = self
+            .services
+            .remove(name)
+            .unwrap_or_else(|| panic!("no process {name}"));
         let path = self.dir.path().join(format!("{name}.log"));
         let what = || {
             let log = std::fs::read_to_string(&path).unwrap_or_default();
             format!("{name}, whose log is:\n{log}")
         };
-        let status = exit_within(&mut self.children[index].1, limit, what);
-        let (_, child) = self.children.remove(index);
+        let status = exit_within(&mut child, limit, what);
         self.pids
             .lock()
             .unwrap()
@@ -105,13 +103,14 @@ impl Harness {
 
     /// The process id of `name`.
     pub fn pid(&self, name: &str) -> u32 {
-        self.children[self.index(name)].1.id()
+        self.services
+            .pid(name)
+            .unwrap_or_else(|| panic!("no process {name}"))
     }
 
     /// Whether `name` has not exited.
     pub fn running(&mut self, name: &str) -> bool {
-        let index = self.index(name);
-        self.children[index].1.try_wait().unwrap().is_none()
+        self.child(name).try_wait().unwrap().is_none()
     }
 
     /// SIGKILL, then reap.
@@ -121,7 +120,7 @@ impl Harness {
     }
 
     pub fn log(&self, name: &str) -> String {
-        std::fs::read_to_string(self.dir.path().join(format!("{name}.log"))).unwrap_or_default()
+        self.services.log(name)
     }
 
     pub fn config_arg(&self) -> &str {
@@ -130,10 +129,9 @@ impl Harness {
 }
 
 impl Drop for Harness {
+    /// A test's processes are killed, not stopped in order: a test that
+    /// wanted an orderly stop has signalled and waited for it already.
     fn drop(&mut self) {
-        for (_, child) in &mut self.children {
-            child.kill().ok();
-            child.wait().ok();
-        }
+        self.services.kill_all();
     }
 }
