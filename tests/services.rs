@@ -281,6 +281,52 @@ fn the_demo_answers_every_query_and_reports_its_accuracy() {
     assert!(accuracy >= 0.85, "{summary}");
 }
 
+/// `vref up` says where its services are, answers through them, and stops
+/// them all in order on SIGTERM (exit 0, its run directory removed).
+#[test]
+fn vref_up_serves_clients_until_sigterm() {
+    use std::io::{BufRead, BufReader};
+    let mut up = std::process::Command::new(vref_testkit::binary("vref"))
+        .args(["up", "--objects", "8"])
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Its lines, read on a thread so that every wait is bounded.
+    let (lines, heard) = std::sync::mpsc::channel();
+    let stdout = up.stdout.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+            if lines.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let limit = Duration::from_secs(60);
+    let first = heard.recv_timeout(limit).expect("vref up said nothing");
+    let config = first
+        .strip_prefix("config ")
+        .unwrap_or_else(|| panic!("first line: {first}"))
+        .to_owned();
+    assert_eq!(heard.recv_timeout(limit).as_deref(), Ok("ready"));
+    let run = support::vref(
+        &["query", "--config", &config, "--latest-gesture", "--json"],
+        Duration::from_secs(30),
+    );
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    let answer: serde_json::Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    assert!(answer["status"].is_string(), "{answer}");
+    nix::sys::signal::kill(nix::unistd::Pid::from_raw(up.id() as i32), Signal::SIGTERM).unwrap();
+    let status = vref_testkit::exit_within(&mut up, Duration::from_secs(30), || {
+        "vref up after SIGTERM".to_owned()
+    });
+    vref_testkit::join_within(reader, Duration::from_secs(10), "vref up's output");
+    assert_eq!(status.code(), Some(0));
+    let run_dir = std::path::Path::new(&config).parent().unwrap();
+    assert!(!run_dir.exists(), "{} was kept", run_dir.display());
+}
+
 /// Issue 40, case 1: both feeds replaced by a source whose features are
 /// shorter (48 values to 6 in the report). Each side's first new snapshot
 /// used to be refused against the other side's old one, for as long as

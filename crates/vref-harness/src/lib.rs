@@ -12,6 +12,8 @@
 //!   [`bench_client`]: the runners of `vref demo`, `vref soak` and `vref
 //!   bench query`, `remote` and `client`, each returning a report that
 //!   renders itself as the command's JSON line or table.
+//! - [`up`]: the runner of `vref up`, the services for clients to talk
+//!   to until asked to stop.
 //! - [`table`]: the plain-text tables the reports render.
 //! - [`samples`]: round trips of one kind, with vref_measure's one
 //!   percentile definition (nearest rank).
@@ -31,6 +33,7 @@ pub mod ready;
 pub mod samples;
 pub mod soak;
 pub mod table;
+pub mod up;
 
 use vref_wire::ipc::IpcError;
 

@@ -61,6 +61,13 @@ pub enum Command {
     /// solve done) and at the end, so that growth means a leak. Exit code 1
     /// if a service dies.
     Soak(SoakArgs),
+    /// Run the three services with synthetic feeds until interrupted
+    /// (SIGINT, SIGTERM) or --for has passed, for clients to talk to:
+    /// under an iceoryx2 root path and prefix of their own, whose
+    /// configuration file is printed first (`config PATH`; connect with
+    /// it, e.g. `vref query --config PATH --latest-gesture`), then `ready`
+    /// once the matcher answers. Exit code 1 if a service dies.
+    Up(UpArgs),
     /// Record what the feeds publish (snapshots of both views, pointing
     /// rays) into a file that a feed can replay (--source recording:FILE).
     /// FILE.mcap: an MCAP file with the raw wire messages on their own
@@ -502,6 +509,21 @@ pub struct DemoArgs {
     pub json: bool,
     /// Configuration file; the demo runs the services under its own
     /// iceoryx2 root path and prefix whatever its [ipc] says.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct UpArgs {
+    /// Objects in the synthetic world (default: drawn per class as the
+    /// [feeds] preset says).
+    #[arg(long, value_name = "N")]
+    pub objects: Option<usize>,
+    /// Stop after this long, e.g. 30s (default: only when interrupted).
+    #[arg(long = "for", value_name = "D", value_parser = vref_measure::parse_duration)]
+    pub duration: Option<std::time::Duration>,
+    /// Configuration file; the services run under their own iceoryx2 root
+    /// path and prefix whatever its [ipc] says.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
 }

@@ -31,6 +31,7 @@ mod soak;
 mod stdout;
 mod sweep;
 mod table;
+mod up;
 mod view;
 mod viz;
 mod wire_layout;
@@ -74,6 +75,7 @@ fn run(command: Command) -> Result<(), Failure> {
         Command::Inject(args) => inject::run(&args),
         Command::Demo(args) => demo::run(&args),
         Command::Soak(args) => soak::run(&args),
+        Command::Up(args) => up::run(&args),
         Command::Segment(args) => segment::run(&args),
         Command::Match(args) => match_frames::run(&args),
         Command::Bench(BenchCommand::Solver(args)) => bench::solver(&args),
