@@ -21,18 +21,20 @@ import argparse
 import json
 import os
 import resource
+import select
 import shutil
 import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from . import wire
 from .client import ReferenceClient
-from .errors import AnswerTimeout, MatcherNotRunning
+from .errors import AnswerTimeout
 # Re-exported: the one definition, as vref_client.bench.percentile was before.
 from .measure import parse_duration as parse_duration
 from .measure import percentile as percentile
@@ -77,56 +79,65 @@ def find_binaries(explicit: str | None) -> Path:
 
 
 class Services:
-    """The matcher and both feeds under their own configuration."""
+    """The matcher and both feeds, run by ``vref up`` (the one launcher)
+    under an iceoryx2 root path and prefix of their own, which it names in
+    its first line: ``config PATH``."""
 
     def __init__(self, bins: Path, directory: Path, objects: int) -> None:
         self.dir = directory
-        root = directory / "iox"
-        root.mkdir()
-        self.prefix = f"vpb{os.getpid()}_"
-        self.config = directory / "vref.toml"
-        self.config.write_text(f'[ipc]\nroot_path = "{root}"\nprefix = "{self.prefix}"\n')
-        self.root = str(root)
-        self.children: dict[str, subprocess.Popen[bytes]] = {}
-        for name in SERVICES:
-            args = [str(bins / name), "--config", str(self.config)]
-            if name.endswith("feed"):
-                args += ["--objects", str(objects)]
-            with open(directory / f"{name}.log", "wb") as log:
-                self.children[name] = subprocess.Popen(
-                    args, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT
-                )
+        self.log = directory / "vref-up.log"
+        with open(self.log, "wb") as log:
+            self.up = subprocess.Popen(
+                [str(bins / "vref"), "up", "--objects", str(objects)],
+                # Unbuffered: a line read leaves the next in the pipe, where
+                # select sees it.
+                bufsize=0,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.PIPE,
+                stderr=log,
+            )
+        first = self._line()
+        if not first.startswith("config "):
+            self.stop()
+            raise SystemExit(f"vref_client.bench: vref up said {first!r}: {self._last_log()}")
+        self.config = Path(first.removeprefix("config "))
+        with open(self.config, "rb") as f:
+            ipc = tomllib.load(f)["ipc"]
+        self.prefix: str = ipc["prefix"]
+        self.root: str = ipc["root_path"]
+        # vref up says so once the matcher answers the latest gesture.
+        said = self._line()
+        if said != "ready":
+            self.stop()
+            raise SystemExit(f"vref_client.bench: vref up said {said!r}: {self._last_log()}")
+
+    def _line(self) -> str:
+        """The next line of ``vref up``, or "" once it ended; bounded, as
+        ``vref up`` itself gives up on services not ready in time."""
+        assert self.up.stdout is not None
+        ready, _, _ = select.select([self.up.stdout], [], [], READY_S + 10)
+        return self.up.stdout.readline().decode().strip() if ready else ""
+
+    def _last_log(self) -> str:
+        text = self.log.read_text(errors="replace").strip()
+        return text.splitlines()[-1] if text else "(no log)"
 
     def check(self) -> None:
-        for name, child in self.children.items():
-            if child.poll() is not None:
-                log = (self.dir / f"{name}.log").read_text(errors="replace").strip()
-                last = log.splitlines()[-1] if log else ""
-                raise SystemExit(f"vref_client.bench: {name} exited ({child.returncode}): {last}")
+        if self.up.poll() is not None:
+            raise SystemExit(
+                f"vref_client.bench: vref up exited ({self.up.returncode}): {self._last_log()}"
+            )
 
     def stop(self) -> None:
-        for child in self.children.values():
-            if child.poll() is None:
-                child.terminate()
-        for child in self.children.values():
-            try:
-                child.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                child.kill()
-                child.wait(timeout=10)
-
-
-def wait_ready(client: ReferenceClient, services: Services) -> None:
-    deadline = time.monotonic() + READY_S
-    while time.monotonic() < deadline:
-        services.check()
+        if self.up.poll() is None:
+            self.up.terminate()
         try:
-            if client.latest_gesture(timeout=QUERY_TIMEOUT_S).status in ("ok", "ambiguous"):
-                return
-        except (MatcherNotRunning, TimeoutError):
-            pass
-        time.sleep(0.1)
-    raise SystemExit(f"vref_client.bench: no ok answer from the matcher within {READY_S:g} s")
+            self.up.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            self.up.kill()
+            self.up.wait(timeout=10)
+        if self.up.stdout is not None:
+            self.up.stdout.close()
 
 
 def measure_python(client: ReferenceClient, rate: float, duration: float) -> dict[str, Any]:
@@ -253,7 +264,6 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     try:
         client = ReferenceClient("vref", services.prefix, services.root, node="vref-py-bench")
         try:
-            wait_ready(client, services)
             rust = subprocess.Popen(
                 [
                     str(bins / "vref"),
