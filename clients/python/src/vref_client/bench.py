@@ -27,7 +27,6 @@ import subprocess
 import sys
 import tempfile
 import time
-import tomllib
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -101,10 +100,9 @@ class Services:
             self.stop()
             raise SystemExit(f"vref_client.bench: vref up said {first!r}: {self._last_log()}")
         self.config = Path(first.removeprefix("config "))
-        with open(self.config, "rb") as f:
-            ipc = tomllib.load(f)["ipc"]
-        self.prefix: str = ipc["prefix"]
-        self.root: str = ipc["root_path"]
+        settings = IpcSettings.from_toml(self.config)
+        self.prefix: str = settings.prefix
+        self.root: str = settings.root_path or ""
         # vref up says so once the matcher answers the latest gesture.
         said = self._line()
         if said != "ready":
