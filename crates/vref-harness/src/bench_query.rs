@@ -35,9 +35,7 @@ use vref_wire::{AnswerStatus, ReferenceAnswer};
 use crate::Finished;
 use crate::RunError;
 use crate::echo::echo_settings;
-use crate::launch::{
-    FEEDS, Isolation, LaunchError, Services, keep_logs_if, prepare, write_config_as,
-};
+use crate::launch::{FEEDS, LaunchError, Services, prepare, write_config_as};
 use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::samples::{Samples, ratio, us};
 
@@ -82,57 +80,49 @@ pub(crate) fn bench_world(config: &Config, objects: usize) -> Result<LiveWorld, 
     Ok(synthetic_world(&config.feeds, Some(objects))?.1)
 }
 
-/// Runs the benchmark: the echo server (and the viewer), then the
-/// matcher and both feeds from `bin_dir` under `config` isolated.
+/// Runs the benchmark: the matcher and both feeds from `bin_dir` under
+/// `config` isolated, and beside them the echo server (and the viewer).
 pub fn run(
     options: &QueryBenchOptions,
     config: &Config,
     bin_dir: &Path,
 ) -> Result<Finished<Reports>, RunError> {
     let world = bench_world(config, options.objects)?;
-    let Isolation {
-        binaries,
-        dir,
-        config: own,
-        config_path,
-    } = prepare(config, bin_dir, "bench-query", "vbq")?;
-
-    // The echo first: the matcher takes longer to be ready anyway. A
-    // failed start stops what was started (Drop).
-    let mut echo = Services::new(dir.path());
-    let mut command = std::process::Command::new(&options.vref);
-    command
-        .args(["bench", "echo-server", "--config"])
-        .arg(&config_path);
-    echo.spawn("vref-bench-echo", command)?;
-    if options.with_viewer {
-        // A viewer as a person would run one: live server (no client) and
-        // an MCAP file of everything, raw wire messages included.
-        let mut command = std::process::Command::new(&options.vref);
-        command
-            .args(["view", "--listen", "127.0.0.1:0", "--mcap"])
-            .arg(dir.path().join("view.mcap"))
-            .arg("--config")
-            .arg(&config_path);
-        echo.spawn("vref-view", command)?;
-    }
     let feed_args = ["--objects".to_owned(), options.objects.to_string()];
-    let mut system = Services::start_system(&binaries, &config_path, &feed_args, dir.path())?;
-    let unheard = write_config_as(&unheard(&own), dir.path(), "vref-unheard.toml")?;
-    let restart = Restart {
-        binaries: &binaries,
-        config: &config_path,
-        unheard: &unheard,
-        objects: options.objects,
-    };
-    let outcome = run_phases(options, &own, &world, &mut system, &mut echo, &restart);
-    let stopped = system.stop().and(echo.stop());
-    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
-    let (busy, idle) = outcome?;
-    Ok(Finished {
-        report: Reports { busy, idle },
-        stopped,
-    })
+    prepare(config, bin_dir, "bench-query", "vbq")?.run_system(
+        &feed_args,
+        |run, system| {
+            // The echo (and the viewer) beside the services, so that one
+            // check sees every process die and one stop stops them all.
+            let mut command = std::process::Command::new(&options.vref);
+            command
+                .args(["bench", "echo-server", "--config"])
+                .arg(run.config_path);
+            system.spawn("vref-bench-echo", command)?;
+            if options.with_viewer {
+                // A viewer as a person would run one: live server (no
+                // client) and an MCAP file of everything, raw wire
+                // messages included.
+                let mut command = std::process::Command::new(&options.vref);
+                command
+                    .args(["view", "--listen", "127.0.0.1:0", "--mcap"])
+                    .arg(run.dir.join("view.mcap"))
+                    .arg("--config")
+                    .arg(run.config_path);
+                system.spawn("vref-view", command)?;
+            }
+            let unheard = write_config_as(&unheard(run.config), run.dir, "vref-unheard.toml")?;
+            let restart = Restart {
+                binaries: run.binaries,
+                config: run.config_path,
+                unheard: &unheard,
+                objects: options.objects,
+            };
+            let (busy, idle) = run_phases(options, run.config, &world, system, &restart)?;
+            Ok(Reports { busy, idle })
+        },
+        |_, _| (),
+    )
 }
 
 /// What one run measured.
@@ -233,7 +223,6 @@ fn run_phases(
     config: &Config,
     world: &LiveWorld,
     system: &mut Services,
-    echo: &mut Services,
     restart: &Restart<'_>,
 ) -> Result<(Report, Option<Report>), RunError> {
     let pid = std::process::id();
@@ -245,12 +234,8 @@ fn run_phases(
         )?,
         decisions: DecisionReader::connect(&config.ipc, &format!("vref-bench-decisions-{pid}"))?,
     };
-    let both = |system: &mut Services, echo: &mut Services| -> Result<(), LaunchError> {
-        system.ensure_running()?;
-        echo.ensure_running()
-    };
     wait_ready_both(&mut clients.matcher, &mut clients.bare, world, &mut || {
-        both(system, echo)
+        system.ensure_running()
     })?;
     let idle = if args.compare_idle {
         // Stopped, not paused: a feed takes any signal in its sleep as one
@@ -276,14 +261,14 @@ fn run_phases(
         }
         restart.feeds(system, restart.config)?;
         wait_ready_both(&mut clients.matcher, &mut clients.bare, world, &mut || {
-            both(system, echo)
+            system.ensure_running()
         })?;
         std::thread::sleep(SETTLE);
         Some(idle?)
     } else {
         None
     };
-    let busy = measure(args, &mut clients, world, &mut || both(system, echo))?;
+    let busy = measure(args, &mut clients, world, &mut || system.ensure_running())?;
     Ok((busy, idle))
 }
 

@@ -21,7 +21,7 @@ use vref_wire::ipc::{IpcError, ReferenceClient};
 use vref_wire::{AnswerStatus, ReferenceAnswer, ReferenceQuery};
 
 use crate::bench_query::{bench_world, human_ids};
-use crate::launch::{self, Isolation, LaunchError, Services, keep_logs_if, prepare};
+use crate::launch::{self, LaunchError, prepare};
 use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::samples::{ROW_HEADER, Samples, us};
 use crate::table::Table;
@@ -70,35 +70,24 @@ pub fn run(
         max_query_rate_hz: 100_000.0,
         ..BridgeSettings::default()
     };
-    let Isolation {
-        binaries,
-        dir,
-        config: own,
-        config_path,
-    } = prepare(&config, bin_dir, "bench-remote", "vbr")?;
-
     let feed_args = ["--objects".to_owned(), options.objects.to_string()];
-    let mut system = Services::start_system(&binaries, &config_path, &feed_args, dir.path())?;
-    let mut command = std::process::Command::new(&bridge_binary);
-    command.arg("--config").arg(&config_path);
-    system.spawn("vref-bridge", command)?;
-    let outcome = Echo::start(&echo_endpoint, &echo_prefix)
-        .map_err(RunError::Echo)
-        .and_then(|_echo| {
+    prepare(&config, bin_dir, "bench-remote", "vbr")?.run_system(
+        &feed_args,
+        |run, system| {
+            let mut command = std::process::Command::new(&bridge_binary);
+            command.arg("--config").arg(run.config_path);
+            system.spawn("vref-bridge", command)?;
+            let _echo = Echo::start(&echo_endpoint, &echo_prefix).map_err(RunError::Echo)?;
             let endpoints = Endpoints {
                 bridge: (&endpoint, &prefix),
                 echo: (&echo_endpoint, &echo_prefix),
             };
-            measure(options, &own, &world, &endpoints, &mut || {
+            measure(options, run.config, &world, &endpoints, &mut || {
                 system.ensure_running()
             })
-        });
-    let stopped = system.stop();
-    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
-    Ok(Finished {
-        report: outcome?,
-        stopped,
-    })
+        },
+        |_, _| (),
+    )
 }
 
 /// Two loopback ports free a moment ago, for the bridge and the echo to

@@ -13,7 +13,7 @@ use vref_sim::{Gesture, LiveWorld};
 use vref_wire::ipc::ReferenceClient;
 use vref_wire::{AnswerStatus, ReferenceAnswer};
 
-use crate::launch::{Isolation, Services, keep_logs_if, prepare};
+use crate::launch::{Services, prepare};
 use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::{Finished, OutputError, RunError, now_s};
 
@@ -131,21 +131,11 @@ pub fn run(
             return Err(RunError::DemoSource(format!("{other:?}")));
         }
     };
-    let Isolation {
-        binaries,
-        dir,
-        config: demo_config,
-        config_path,
-    } = prepare(config, bin_dir, "demo", "vdemo")?;
-
-    let mut services = Services::start_system(&binaries, &config_path, &feed_args, dir.path())?;
-    let outcome = query_loop(options, &demo_config, &world, &mut services, on_line);
-    let stopped = services.stop();
-    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
-    Ok(Finished {
-        report: outcome?,
-        stopped,
-    })
+    prepare(config, bin_dir, "demo", "vdemo")?.run_system(
+        &feed_args,
+        |run, services| query_loop(options, run.config, &world, services, on_line),
+        |_, _| (),
+    )
 }
 
 /// The `--json` summary; field order is the documented contract's.

@@ -79,6 +79,53 @@ pub struct Isolation {
     pub config_path: PathBuf,
 }
 
+/// What a run's body works with: the isolated configuration, its file
+/// and the run's directory (the services' logs), beside the services.
+#[derive(Debug)]
+pub struct Run<'a> {
+    pub config: &'a Config,
+    pub config_path: &'a Path,
+    pub binaries: &'a [PathBuf],
+    pub dir: &'a Path,
+}
+
+impl Isolation {
+    /// The one skeleton of every run: the matcher and both feeds started
+    /// (the feeds with `feed_args`), `body` run on them, the services
+    /// stopped, `after_stop` given what they left (their logs), and the
+    /// run's directory kept where the body or the stop failed.
+    pub fn run_system<R>(
+        self,
+        feed_args: &[String],
+        body: impl FnOnce(&Run<'_>, &mut Services) -> Result<R, crate::RunError>,
+        after_stop: impl FnOnce(&mut R, &Services),
+    ) -> Result<crate::Finished<R>, crate::RunError> {
+        let Isolation {
+            binaries,
+            dir,
+            config,
+            config_path,
+        } = self;
+        let mut services = Services::start_system(&binaries, &config_path, feed_args, dir.path())?;
+        let run = Run {
+            config: &config,
+            config_path: &config_path,
+            binaries: &binaries,
+            dir: dir.path(),
+        };
+        let mut outcome = body(&run, &mut services);
+        let stopped = services.stop();
+        if let Ok(report) = &mut outcome {
+            after_stop(report, &services);
+        }
+        keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
+        Ok(crate::Finished {
+            report: outcome?,
+            stopped,
+        })
+    }
+}
+
 /// Keeps the run's directory (the services' logs) when the run failed,
 /// so that the paths its error names still exist, and logs where (and
 /// returns it); removes it otherwise.

@@ -17,7 +17,7 @@ use vref_wire::{AnswerStatus, MatcherStats};
 
 use crate::Finished;
 use crate::demo::ask;
-use crate::launch::{Isolation, Services, keep_logs_if, prepare};
+use crate::launch::{Services, prepare};
 use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::{RunError, now_s};
 
@@ -52,27 +52,21 @@ pub fn run(
     // The world the feeds publish, computed here too: queries point where
     // the person points.
     let (_, world) = synthetic_world(&config.feeds, options.objects)?;
-    let Isolation {
-        binaries,
-        dir,
-        config: own,
-        config_path,
-    } = prepare(config, bin_dir, "soak", "vsoak")?;
     let mut feed_args = vec!["--rate".to_owned(), options.feed_rate.to_string()];
     if let Some(n) = options.objects {
         feed_args.extend(["--objects".to_owned(), n.to_string()]);
     }
-    let mut services = Services::start_system(&binaries, &config_path, &feed_args, dir.path())?;
-    let outcome = soak(options, &own, &world, &mut services);
-    let stopped = services.stop();
-    let published = [
-        published_snapshots(&services.log("vref-perception-feed")),
-        published_snapshots(&services.log("vref-gesture-feed")),
-    ];
-    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
-    let mut report = outcome?;
-    report.published = published;
-    Ok(Finished { report, stopped })
+    prepare(config, bin_dir, "soak", "vsoak")?.run_system(
+        &feed_args,
+        |run, services| soak(options, run.config, &world, services),
+        // The feeds log what they published as they stop.
+        |report, services| {
+            report.published = [
+                published_snapshots(&services.log("vref-perception-feed")),
+                published_snapshots(&services.log("vref-gesture-feed")),
+            ];
+        },
+    )
 }
 
 /// What one soak run saw.

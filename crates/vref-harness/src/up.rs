@@ -10,7 +10,7 @@ use vref_config::Config;
 use vref_wire::AnswerStatus;
 use vref_wire::ipc::{ReferenceClient, create_node, nap};
 
-use crate::launch::{Isolation, Services, keep_logs_if, prepare};
+use crate::launch::{Run, Services, prepare};
 use crate::ready::{READY_WITHIN, Readiness, ReadyError, wait_ready};
 use crate::{Finished, OutputError, RunError};
 
@@ -41,31 +41,22 @@ pub fn run(
         Some(n) => vec!["--objects".to_owned(), n.to_string()],
         None => Vec::new(),
     };
-    let Isolation {
-        binaries,
-        dir,
-        config: own,
-        config_path,
-    } = prepare(config, bin_dir, "up", "vup")?;
-    let mut services = Services::start_system(&binaries, &config_path, &feed_args, dir.path())?;
-    let outcome = serve(options, &own, &config_path, &mut services, on_line);
-    let stopped = services.stop();
-    keep_logs_if(outcome.is_err() || stopped.is_err(), dir);
-    Ok(Finished {
-        report: outcome?,
-        stopped,
-    })
+    prepare(config, bin_dir, "up", "vup")?.run_system(
+        &feed_args,
+        |run, services| serve(options, run, services, on_line),
+        |_, _| (),
+    )
 }
 
 /// Says where the services are, waits for them, then until asked to stop.
 fn serve(
     options: &UpOptions,
-    config: &Config,
-    config_path: &Path,
+    run: &Run<'_>,
     services: &mut Services,
     on_line: &mut dyn FnMut(&str) -> Result<(), OutputError>,
 ) -> Result<(), RunError> {
-    on_line(&format!("config {}\n", config_path.display())).map_err(RunError::Output)?;
+    on_line(&format!("config {}\n", run.config_path.display())).map_err(RunError::Output)?;
+    let config = run.config;
     let pid = std::process::id();
     let mut client = ReferenceClient::connect(&config.ipc, &format!("vref-up-{pid}"))?;
     wait_ready(READY_WITHIN, Duration::from_millis(100), || {
