@@ -6,7 +6,10 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
-use crate::wait::exit_within;
+use vref_scene::Side;
+use vref_wire::ipc::{IpcSettings, SnapshotWatch};
+
+use crate::wait::{eventually, exit_within};
 
 fn run(bin: &str, args: &[&str], dir: &Path) -> Output {
     Command::new(bin)
@@ -63,10 +66,20 @@ pub fn bad_sources_and_settings_exit_2_naming_the_problem(bin: &str) {
     assert!(stderr(&out).contains("kitchen"), "{}", stderr(&out));
 }
 
+/// Snapshots the feed publishes before it is stopped: 1.5 s of its own
+/// 50 Hz clock, however slowly the machine started it.
+const SNAPSHOTS_BEFORE_STOP: u64 = 75;
+
 /// Runs the feed at 50 Hz under its own root path and prefix
-/// (`prefix_tag`), stops it with SIGTERM, checks exit 0, that its start
-/// line names `frame` and that it published; returns its log.
-pub fn publishes_until_sigterm_then_exits_0(bin: &str, prefix_tag: &str, frame: &str) -> String {
+/// (`prefix_tag`) until `side`'s snapshots have reached
+/// [`SNAPSHOTS_BEFORE_STOP`], stops it with SIGTERM, checks exit 0, that
+/// its start line names `frame` and that it published; returns its log.
+pub fn publishes_until_sigterm_then_exits_0(
+    bin: &str,
+    prefix_tag: &str,
+    frame: &str,
+    side: Side,
+) -> String {
     let dir = tempfile::tempdir().unwrap();
     let root = dir.path().join("iox");
     std::fs::create_dir(&root).unwrap();
@@ -89,7 +102,20 @@ pub fn publishes_until_sigterm_then_exits_0(bin: &str, prefix_tag: &str, frame: 
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(Duration::from_millis(1500));
+    let settings = IpcSettings {
+        root_path: Some(root.clone()),
+        prefix: prefix.clone(),
+        ..IpcSettings::default()
+    };
+    let watch = SnapshotWatch::connect(&settings, side, &format!("{prefix}watch")).unwrap();
+    let mut newest = 0;
+    eventually(Duration::from_secs(30), "the feed's snapshots", || {
+        if let Some(header) = watch.latest().unwrap() {
+            newest = header.sequence;
+        }
+        (newest >= SNAPSHOTS_BEFORE_STOP).then_some(())
+    });
+    drop(watch);
     let killed = Command::new("kill")
         .args(["-TERM", &child.id().to_string()])
         .status()
@@ -103,12 +129,15 @@ pub fn publishes_until_sigterm_then_exits_0(bin: &str, prefix_tag: &str, frame: 
     assert_eq!(out.status.code(), Some(0), "{log}");
     assert!(out.stdout.is_empty());
     assert!(log.contains(frame) && log.contains("50"), "{log}");
-    let published: u64 = log
-        .split("snapshots=")
+    assert!(count_in(&log, "snapshots") > 0, "{log}");
+    log
+}
+
+/// The count `key=N` of a feed's stop line in `log`.
+pub fn count_in(log: &str, key: &str) -> u64 {
+    log.split(&format!("{key}="))
         .nth(1)
         .and_then(|rest| rest.split_whitespace().next())
         .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no stop line in\n{log}"));
-    assert!(published > 0, "{log}");
-    log
+        .unwrap_or_else(|| panic!("no {key}= in\n{log}"))
 }

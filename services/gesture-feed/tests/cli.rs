@@ -2,6 +2,7 @@
 //! `vref-gesture-feed` as a user meets it: help, refusals with exit code 2, and a
 //! clean stop on SIGTERM.
 
+use vref_scene::Side;
 use vref_testkit::feed_cli;
 
 const BIN: &str = env!("CARGO_BIN_EXE_vref-gesture-feed");
@@ -18,14 +19,9 @@ fn bad_sources_and_settings_exit_2_naming_the_problem() {
 
 #[test]
 fn it_publishes_until_sigterm_then_exits_0() {
-    let log = feed_cli::publishes_until_sigterm_then_exits_0(BIN, "gf", "headset_camera");
+    let log =
+        feed_cli::publishes_until_sigterm_then_exits_0(BIN, "gf", "headset_camera", Side::Human);
     // Two rays a second by default, and who they point at.
-    let rays: u64 = log
-        .split("gestures=")
-        .nth(1)
-        .and_then(|rest| rest.split_whitespace().next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no ray count in\n{log}"));
-    assert!(rays >= 2, "{log}");
+    assert!(feed_cli::count_in(&log, "gestures") >= 2, "{log}");
     assert!(log.contains("pointing at a new object"), "{log}");
 }

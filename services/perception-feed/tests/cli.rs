@@ -2,6 +2,7 @@
 //! `vref-perception-feed` as a user meets it: help, refusals with exit code 2, and a
 //! clean stop on SIGTERM.
 
+use vref_scene::Side;
 use vref_testkit::feed_cli;
 
 const BIN: &str = env!("CARGO_BIN_EXE_vref-perception-feed");
@@ -18,5 +19,5 @@ fn bad_sources_and_settings_exit_2_naming_the_problem() {
 
 #[test]
 fn it_publishes_until_sigterm_then_exits_0() {
-    feed_cli::publishes_until_sigterm_then_exits_0(BIN, "pf", "robot_camera");
+    feed_cli::publishes_until_sigterm_then_exits_0(BIN, "pf", "robot_camera", Side::Robot);
 }
