@@ -14,7 +14,7 @@
 # says which mode, commit and machine wrote the files.
 #
 # Needs: a Rust toolchain (it builds the release binaries if needed),
-# python3 3.10+ with venv (the Python client's bench, in
+# python3 3.11+ with venv (the Python client's bench, in
 # target/python-venv as tools/test.sh makes it), and the shared data at
 # ../shared/data (or VREF_DATA).
 set -euo pipefail
