@@ -50,12 +50,17 @@ struct Args {
     /// are resumed ones.
     #[arg(long, default_value_t = 1)]
     chain: u64,
+    /// Both views carry their camera's exact vertical, as the synthetic
+    /// feeds publish it (`[feeds] up_vectors`).
+    #[arg(long)]
+    up_vectors: bool,
 }
 
 const MOMENTS: u64 = 40;
 
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
+    UP_VECTORS.store(args.up_vectors, std::sync::atomic::Ordering::Relaxed);
     let (mut config, _) = vref_config::Config::load(None).context("loading the configuration")?;
     if let Some(seed) = args.seed {
         config.feeds.seed = seed;
@@ -212,10 +217,20 @@ fn views(
     frame: u64,
     limits: &Limits,
 ) -> anyhow::Result<(SceneGraph, SceneGraph)> {
-    let human = world.observe(Side::Human, t, frame).graph(limits)?;
-    let robot = world.observe(Side::Robot, t, frame).graph(limits)?;
-    Ok((human, robot))
+    let view = |side| -> anyhow::Result<SceneGraph> {
+        let view = world.observe(side, t, frame);
+        let graph = view.graph(limits)?;
+        if !UP_VECTORS.load(std::sync::atomic::Ordering::Relaxed) {
+            return Ok(graph);
+        }
+        let up = view.camera.direction_to_camera(&nalgebra::Vector3::z());
+        Ok(graph.with_up(Some([up.x, up.y, up.z]))?)
+    };
+    Ok((view(Side::Human)?, view(Side::Robot)?))
 }
+
+/// `--up-vectors`, read by [`views`].
+static UP_VECTORS: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// Over the moments: median and 90th percentile of the distance between
 /// each true pair under the rigid motion fitted to all true pairs, and the
