@@ -31,6 +31,11 @@ pub(super) struct Costs<'a> {
     pub(super) rays: Option<Rays>,
     /// The residual scale of a typical pair.
     pub(super) typical: f64,
+    /// Per pair, the half squared length below which its cost may be
+    /// under `limits_for` ([`limit`]): the search's rows ask for pairs
+    /// below "no partner", thousands of times.
+    limits: Vec<f64>,
+    limits_for: f64,
 }
 
 /// Each object's ray from its camera and depth variance along it.
@@ -250,29 +255,11 @@ impl Rays {
     }
 
     /// `row`'s half squared lengths into `scratch.lengths`, and in
-    /// `scratch.masks` a bit per pair (appearance `log_g`), set where a
-    /// lower bound of its cost is below `loosest`: one vectorised pass
-    /// without a logarithm, so that the scan that follows looks at the few
-    /// pairs that may be taken, not at every pair.
-    ///
-    /// The bound is the cost itself beyond the gate (untailed there), and
-    /// below it the tail's `tail / 2 ln(1 + x)`, `x = 2q / tail`, bounded by
-    /// `ln(1 + x) >= x (6 + 3x) / (6 + 6x + x^2)` for `x >= 0` (a Padé
-    /// approximant of a Stieltjes function, below it, and within 2% of it
-    /// up to the gate), which is `q (6 + 3x) / (6 + 6x + x^2)`. The looser
-    /// `2x / (2 + x)` passed about a fifth more pairs on to the logarithm.
-    fn bounded_row(
-        &self,
-        row: &RowInputs<'_>,
-        log_g: &[f64],
-        loosest: f64,
-        scratch: &mut RowScratch,
-    ) {
-        let bound = Bound {
-            two_over_tail: 2.0 / self.tail,
-            gate: self.gate,
-            loosest,
-        };
+    /// `scratch.masks` a bit per pair, set where its length is below its
+    /// `limits` entry (what [`limit`] gives for its appearance): one
+    /// vectorised pass without a logarithm, so that the scan that follows
+    /// looks at the few pairs that may be taken, not at every pair.
+    fn bounded_row(&self, row: &RowInputs<'_>, limits: &[f64], scratch: &mut RowScratch) {
         // Written by hand (the compiler left the masks scalar).
         #[cfg(target_arch = "x86_64")]
         if crate::cpu::avx512() {
@@ -280,7 +267,7 @@ impl Rays {
             // SAFETY: the CPU has AVX-512F (checked just above), the only
             // requirement of a `target_feature` function.
             unsafe {
-                bounded_row_avx512(row, log_g, bound, scratch);
+                bounded_row_avx512(row, limits, scratch);
             }
             return;
         }
@@ -290,11 +277,11 @@ impl Rays {
             // SAFETY: the CPU has AVX2 (checked just above), the only
             // requirement of a `target_feature` function.
             unsafe {
-                bounded_row_avx2(row, log_g, bound, scratch);
+                bounded_row_avx2(row, limits, scratch);
             }
             return;
         }
-        bounded_row_of(row, log_g, bound, scratch);
+        bounded_row_of(row, limits, scratch);
     }
 
     /// The cost of half a squared Mahalanobis length `q`.
@@ -338,6 +325,8 @@ pub(super) struct RowScratch {
     /// Bit `l` of mask `k`: whether pair `k * MASK_LANES + l` may be taken
     /// ([`Rays::bounded_row`]).
     masks: Vec<u8>,
+    /// The row's limits, where the costs hold none for what is asked.
+    limits: Vec<f64>,
 }
 
 /// The row's half squared lengths into `out`, a lane per robot object: no
@@ -377,79 +366,85 @@ fn half_lengths_avx2(row: &RowInputs<'_>, out: &mut [f64]) {
 /// Pairs per mask of [`Rays::bounded_row`].
 const MASK_LANES: usize = 8;
 
-/// What [`Rays::bounded_row`] bounds a row's costs with.
-#[derive(Clone, Copy)]
-struct Bound {
-    /// `2 / tail`: a pair's `x = 2q / tail` without a division.
-    two_over_tail: f64,
-    gate: f64,
-    loosest: f64,
+/// The half squared length below which a pair of appearance `g` may cost
+/// less than `loosest`. A pair's cost is the untailed `q - g` beyond the
+/// gate, and below it the tail's `tail / 2 ln(1 + x) - g`, `x = 2q /
+/// tail`, which is at least `q (6 + 3x) / (6 + 6x + x^2) - g` for `x >= 0`
+/// (`ln(1 + x)` bounded by a Padé approximant of a Stieltjes function,
+/// below it, and within 2% of it up to the gate). Both grow with `q`, so
+/// the pairs whose bound is below `loosest` are those below one length:
+/// the root of the bound's quadratic below the gate, else the gate or the
+/// untailed cost's own limit beyond it. A hair above that, so that
+/// rounding never keeps out a pair the bound lets in (the scan checks
+/// each pair let in exactly).
+fn limit(g: f64, tail: f64, gate: f64, loosest: f64) -> f64 {
+    let a = loosest + g;
+    if a.is_nan() || a == f64::INFINITY {
+        return f64::INFINITY;
+    }
+    if a <= 0.0 {
+        return 0.0;
+    }
+    let k = 2.0 / tail;
+    // `q (6 + 3kq) < a (6 + 6kq + k^2 q^2)`: a quadratic in q, opening
+    // upwards while the bound's ceiling, 3 / k, is above `a`.
+    let root = if a * k >= 3.0 {
+        f64::INFINITY
+    } else {
+        let linear = 6.0 - 6.0 * a * k;
+        let square = k * (3.0 - a * k);
+        12.0 * a / (linear + (linear * linear + 24.0 * a * square).sqrt())
+    };
+    let limit = if root < gate { root } else { gate.max(a) };
+    limit * (1.0 + 1e-9)
 }
 
 /// Whether a pair of half squared length `q` and appearance `g` may cost
-/// less than the bound's `loosest`: below the gate, `q (6 + 3x) / (6 +
-/// 6x + x^2) - g < loosest` multiplied out (the denominator is positive),
-/// without a division; both sides computed and
-/// selected without a branch, as the vector code does.
-#[inline(always)]
-fn may_take(q: f64, g: f64, bound: Bound) -> bool {
-    let Bound {
-        two_over_tail,
-        gate,
-        loosest,
-    } = bound;
-    let beyond = q >= gate;
-    let x = q * two_over_tail;
-    let below = q * (3.0 * x + 6.0) < (loosest + g) * (6.0 + x * (6.0 + x));
-    (beyond & (q - g < loosest)) | (!beyond & below)
+/// less than `loosest` by the bound [`limit`] solves: its definition,
+/// which the tests hold `limit` to.
+#[cfg(test)]
+fn may_take(q: f64, g: f64, tail: f64, gate: f64, loosest: f64) -> bool {
+    if q >= gate {
+        return q - g < loosest;
+    }
+    let x = 2.0 * q / tail;
+    q * (3.0 * x + 6.0) < (loosest + g) * (6.0 + x * (6.0 + x))
 }
 
 /// [`Rays::bounded_row`] itself, in whatever vectors the caller's target
 /// features let the compiler use.
 #[inline(always)]
-fn bounded_row_of(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
-    let m = log_g.len();
+fn bounded_row_of(row: &RowInputs<'_>, limits: &[f64], scratch: &mut RowScratch) {
+    let m = limits.len();
     let RowScratch { lengths, masks, .. } = scratch;
     lengths.resize(m, 0.0);
     masks.resize(m.div_ceil(MASK_LANES), 0);
     half_lengths_of(row, lengths);
-    let may = |q: f64, g: f64| may_take(q, g, bound);
-    let whole = m / MASK_LANES;
-    let (q_whole, q_rest) = lengths.split_at(whole * MASK_LANES);
-    let (g_whole, g_rest) = log_g.split_at(whole * MASK_LANES);
-    for ((mask, q), g) in masks
+    for ((mask, q), limit) in masks
         .iter_mut()
-        .zip(q_whole.chunks_exact(MASK_LANES))
-        .zip(g_whole.chunks_exact(MASK_LANES))
+        .zip(lengths.chunks(MASK_LANES))
+        .zip(limits.chunks(MASK_LANES))
     {
         let mut bits = 0u8;
-        for l in 0..MASK_LANES {
-            bits |= u8::from(may(q[l], g[l])) << l;
+        for (l, (q, limit)) in q.iter().zip(limit).enumerate() {
+            bits |= u8::from(q < limit) << l;
         }
         *mask = bits;
-    }
-    if let Some(last) = masks.get_mut(whole) {
-        let mut bits = 0u8;
-        for (l, (&q, &g)) in q_rest.iter().zip(g_rest).enumerate() {
-            bits |= u8::from(may(q, g)) << l;
-        }
-        *last = bits;
     }
 }
 
 /// [`bounded_row_of`] in 256-bit vectors, each mask from two of them:
 /// the same IEEE operations in the same order as [`half_mahalanobis2`]
-/// and the scalar bound (no fused multiply-add), so the same bits; the
-/// last `m % 8` pairs by the scalar code itself.
+/// (no fused multiply-add), so the same bits; the last `m % 8` pairs by
+/// the scalar code itself.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn bounded_row_avx2(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
+fn bounded_row_avx2(row: &RowInputs<'_>, limits: &[f64], scratch: &mut RowScratch) {
     use std::arch::x86_64::{
-        __m256d, _CMP_GE_OQ, _CMP_LT_OQ, _mm256_add_pd, _mm256_and_pd, _mm256_andnot_pd,
-        _mm256_cmp_pd, _mm256_div_pd, _mm256_loadu_pd, _mm256_movemask_pd, _mm256_mul_pd,
-        _mm256_or_pd, _mm256_set1_pd, _mm256_storeu_pd, _mm256_sub_pd,
+        __m256d, _CMP_LT_OQ, _mm256_add_pd, _mm256_cmp_pd, _mm256_div_pd, _mm256_loadu_pd,
+        _mm256_movemask_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_storeu_pd, _mm256_sub_pd,
     };
-    let m = log_g.len();
+    let m = limits.len();
     let RowScratch { lengths, masks, .. } = scratch;
     lengths.resize(m, 0.0);
     masks.resize(m.div_ceil(MASK_LANES), 0);
@@ -460,12 +455,6 @@ fn bounded_row_avx2(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &
     let [mx, my, mz] = row.moved.map(splat);
     let [w0, w1, w2] = row.w.map(splat);
     let (alpha, inv, one, half) = (splat(row.alpha), splat(row.inv), splat(1.0), splat(0.5));
-    let (two_over_tail, gate, loosest) = (
-        splat(bound.two_over_tail),
-        splat(bound.gate),
-        splat(bound.loosest),
-    );
-    let (three, six) = (splat(3.0), splat(6.0));
     let load = |s: &[f64], k: usize| -> __m256d {
         let lanes = &s[k..k + 4];
         #[allow(unsafe_code)]
@@ -509,15 +498,7 @@ fn bounded_row_avx2(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &
             unsafe {
                 _mm256_storeu_pd(out.as_mut_ptr(), q);
             }
-            let g = load(log_g, k);
-            let beyond = _mm256_cmp_pd::<_CMP_GE_OQ>(q, gate);
-            let near = _mm256_cmp_pd::<_CMP_LT_OQ>(sub(q, g), loosest);
-            let x = mul(q, two_over_tail);
-            let far = _mm256_cmp_pd::<_CMP_LT_OQ>(
-                mul(q, add(mul(three, x), six)),
-                mul(add(loosest, g), add(six, mul(x, add(six, x)))),
-            );
-            let may = _mm256_or_pd(_mm256_and_pd(beyond, near), _mm256_andnot_pd(beyond, far));
+            let may = _mm256_cmp_pd::<_CMP_LT_OQ>(q, load(limits, k));
             bits |= (_mm256_movemask_pd(may) as u8) << (4 * half_chunk);
         }
         *mask = bits;
@@ -532,7 +513,7 @@ fn bounded_row_avx2(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &
             ];
             let q = half_mahalanobis2(r, row.w, row.alpha, [ux[k], uy[k], uz[k]], var[k], row.inv);
             lengths[k] = q;
-            bits |= u8::from(may_take(q, log_g[k], bound)) << l;
+            bits |= u8::from(q < limits[k]) << l;
         }
         *last = bits;
     }
@@ -542,12 +523,12 @@ fn bounded_row_avx2(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &
 /// compare, the same operations in the same order.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn bounded_row_avx512(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch: &mut RowScratch) {
+fn bounded_row_avx512(row: &RowInputs<'_>, limits: &[f64], scratch: &mut RowScratch) {
     use std::arch::x86_64::{
-        __m512d, _CMP_GE_OQ, _CMP_LT_OQ, _mm512_add_pd, _mm512_cmp_pd_mask, _mm512_div_pd,
-        _mm512_loadu_pd, _mm512_mul_pd, _mm512_set1_pd, _mm512_storeu_pd, _mm512_sub_pd,
+        __m512d, _CMP_LT_OQ, _mm512_add_pd, _mm512_cmp_pd_mask, _mm512_div_pd, _mm512_loadu_pd,
+        _mm512_mul_pd, _mm512_set1_pd, _mm512_storeu_pd, _mm512_sub_pd,
     };
-    let m = log_g.len();
+    let m = limits.len();
     let RowScratch { lengths, masks, .. } = scratch;
     lengths.resize(m, 0.0);
     masks.resize(m.div_ceil(MASK_LANES), 0);
@@ -558,12 +539,6 @@ fn bounded_row_avx512(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch:
     let [mx, my, mz] = row.moved.map(splat);
     let w = row.w.map(splat);
     let (alpha, inv, one, half) = (splat(row.alpha), splat(row.inv), splat(1.0), splat(0.5));
-    let (two_over_tail, gate, loosest) = (
-        splat(bound.two_over_tail),
-        splat(bound.gate),
-        splat(bound.loosest),
-    );
-    let (three, six) = (splat(3.0), splat(6.0));
     let load = |s: &[f64], k: usize| -> __m512d {
         let lanes = &s[k..k + MASK_LANES];
         #[allow(unsafe_code)]
@@ -604,15 +579,7 @@ fn bounded_row_avx512(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch:
         unsafe {
             _mm512_storeu_pd(out.as_mut_ptr(), q);
         }
-        let g = load(log_g, k);
-        let beyond = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(q, gate);
-        let near = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(sub(q, g), loosest);
-        let x = mul(q, two_over_tail);
-        let far = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(
-            mul(q, add(mul(three, x), six)),
-            mul(add(loosest, g), add(six, mul(x, add(six, x)))),
-        );
-        *mask = (beyond & near) | (!beyond & far);
+        *mask = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(q, load(limits, k));
     }
     if let Some(last) = masks.get_mut(whole) {
         let mut bits = 0u8;
@@ -624,7 +591,7 @@ fn bounded_row_avx512(row: &RowInputs<'_>, log_g: &[f64], bound: Bound, scratch:
             ];
             let q = half_mahalanobis2(r, row.w, row.alpha, [ux[k], uy[k], uz[k]], var[k], row.inv);
             lengths[k] = q;
-            bits |= u8::from(may_take(q, log_g[k], bound)) << l;
+            bits |= u8::from(q < limits[k]) << l;
         }
         *last = bits;
     }
@@ -680,6 +647,17 @@ impl<'a> Costs<'a> {
         } else {
             sigma
         };
+        let limits_for = rp.unmatched_cost + BOUND_MARGIN;
+        let limits = rays
+            .as_ref()
+            .filter(|r| r.tail > 0.0)
+            .map(|r| {
+                log_g
+                    .iter()
+                    .map(|&g| limit(g, r.tail, r.gate, limits_for))
+                    .collect()
+            })
+            .unwrap_or_default();
         Self {
             problem,
             log_g,
@@ -688,6 +666,8 @@ impl<'a> Costs<'a> {
             robot_xyz: [axis(0), axis(1), axis(2)],
             rays,
             typical,
+            limits,
+            limits_for,
         }
     }
 
@@ -708,6 +688,8 @@ impl<'a> Costs<'a> {
             robot_xyz: self.robot_xyz.clone(),
             rays,
             typical,
+            limits: self.limits.clone(),
+            limits_for: self.limits_for,
         }
     }
 
@@ -775,8 +757,24 @@ impl<'a> Costs<'a> {
         let moved = motion.apply(&self.problem.human_positions[i]);
         let log_g = &self.log_g[i * m..(i + 1) * m];
         let row = rays.row_inputs(i, motion, &moved, &self.robot_xyz, m);
-        // Every pair that may be taken has its bound below this.
-        rays.bounded_row(&row, log_g, below + BOUND_MARGIN, scratch);
+        // Every pair that may be taken has its bound below this: the
+        // search's rows all ask for pairs below "no partner", whose
+        // limits are computed once.
+        let loosest = below + BOUND_MARGIN;
+        let mut own = std::mem::take(&mut scratch.limits);
+        let limits = if loosest == self.limits_for && self.limits.len() == self.problem.n * m {
+            &self.limits[i * m..(i + 1) * m]
+        } else {
+            own.clear();
+            own.extend(
+                log_g
+                    .iter()
+                    .map(|&g| limit(g, rays.tail, rays.gate, loosest)),
+            );
+            &own[..]
+        };
+        rays.bounded_row(&row, limits, scratch);
+        scratch.limits = own;
         let tail = rays.tail;
         for (chunk, &mask) in scratch.masks.iter().enumerate() {
             let mut bits = mask;
@@ -1044,13 +1042,16 @@ mod tests {
             } else {
                 0.5 * tail * (2.0 * q / tail).ln_1p() - g
             };
-            let bound = super::Bound {
-                two_over_tail: 2.0 / tail,
-                gate,
-                loosest,
-            };
-            let may = super::may_take(q, g, bound);
+            let may = super::may_take(q, g, tail, gate, loosest);
             assert!(may || cost >= loosest, "q {q} g {g} loosest {loosest}");
+            // The masks' limit lets in every pair the bound lets in, and
+            // hardly more.
+            let limit = super::limit(g, tail, gate, loosest);
+            assert!(!may || q < limit, "q {q} g {g} loosest {loosest}");
+            assert!(
+                may || q >= limit * (1.0 - 1e-8),
+                "q {q} g {g} loosest {loosest}: let in for nothing"
+            );
             if may && q < gate {
                 kept += 1;
                 dearer += usize::from(cost >= loosest);
@@ -1088,17 +1089,16 @@ mod tests {
                 let moved = motion.apply(&problem.human_positions[i]);
                 let row = rays.row_inputs(i, &motion, &moved, &costs.robot_xyz, m);
                 let log_g = &log_g[i * m..(i + 1) * m];
-                let bound = super::Bound {
-                    two_over_tail: 2.0 / rays.tail,
-                    gate: rays.gate,
-                    loosest: rp.unmatched_cost,
-                };
+                let limits: Vec<f64> = log_g
+                    .iter()
+                    .map(|&g| super::limit(g, rays.tail, rays.gate, rp.unmatched_cost))
+                    .collect();
                 let mut scalar = RowScratch::default();
-                super::bounded_row_of(&row, log_g, bound, &mut scalar);
+                super::bounded_row_of(&row, &limits, &mut scalar);
                 let mut dispatched = RowScratch::default();
-                rays.bounded_row(&row, log_g, rp.unmatched_cost, &mut dispatched);
+                rays.bounded_row(&row, &limits, &mut dispatched);
                 assert_eq!(scalar.masks, dispatched.masks, "case {case} row {i}");
-                for (path, vector) in vector_paths(&row, log_g, bound) {
+                for (path, vector) in vector_paths(&row, &limits) {
                     assert_eq!(
                         scalar.lengths, vector.lengths,
                         "{path}: case {case} row {i}"
@@ -1125,11 +1125,7 @@ mod tests {
     /// Each vector path this CPU has, run on `row`; a path it lacks is
     /// reported as skipped (the test then checks fewer paths, never the
     /// baseline against itself).
-    fn vector_paths(
-        row: &super::RowInputs<'_>,
-        log_g: &[f64],
-        bound: super::Bound,
-    ) -> Vec<(&'static str, RowScratch)> {
+    fn vector_paths(row: &super::RowInputs<'_>, limits: &[f64]) -> Vec<(&'static str, RowScratch)> {
         let mut out = Vec::new();
         #[cfg(target_arch = "x86_64")]
         {
@@ -1138,7 +1134,7 @@ mod tests {
                 #[allow(unsafe_code)]
                 // SAFETY: the CPU has AVX2 (checked just above).
                 unsafe {
-                    super::bounded_row_avx2(row, log_g, bound, &mut s);
+                    super::bounded_row_avx2(row, limits, &mut s);
                 }
                 out.push(("avx2", s));
             } else {
@@ -1149,7 +1145,7 @@ mod tests {
                 #[allow(unsafe_code)]
                 // SAFETY: the CPU has AVX-512F (checked just above).
                 unsafe {
-                    super::bounded_row_avx512(row, log_g, bound, &mut s);
+                    super::bounded_row_avx512(row, limits, &mut s);
                 }
                 out.push(("avx512", s));
             } else {
