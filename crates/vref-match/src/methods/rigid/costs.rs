@@ -33,8 +33,9 @@ pub(super) struct Costs<'a> {
     pub(super) typical: f64,
     /// Per pair, the half squared length below which its cost may be
     /// under `limits_for` ([`limit`]): the search's rows ask for pairs
-    /// below "no partner", thousands of times.
-    limits: Vec<f64>,
+    /// below "no partner", thousands of times. Solved at the first such
+    /// row (the chance views' costs never ask).
+    limits: std::cell::OnceCell<Vec<f64>>,
     limits_for: f64,
 }
 
@@ -648,16 +649,6 @@ impl<'a> Costs<'a> {
             sigma
         };
         let limits_for = rp.unmatched_cost + BOUND_MARGIN;
-        let limits = rays
-            .as_ref()
-            .filter(|r| r.tail > 0.0)
-            .map(|r| {
-                log_g
-                    .iter()
-                    .map(|&g| limit(g, r.tail, r.gate, limits_for))
-                    .collect()
-            })
-            .unwrap_or_default();
         Self {
             problem,
             log_g,
@@ -666,7 +657,7 @@ impl<'a> Costs<'a> {
             robot_xyz: [axis(0), axis(1), axis(2)],
             rays,
             typical,
-            limits,
+            limits: std::cell::OnceCell::new(),
             limits_for,
         }
     }
@@ -762,8 +753,14 @@ impl<'a> Costs<'a> {
         // limits are computed once.
         let loosest = below + BOUND_MARGIN;
         let mut own = std::mem::take(&mut scratch.limits);
-        let limits = if loosest == self.limits_for && self.limits.len() == self.problem.n * m {
-            &self.limits[i * m..(i + 1) * m]
+        let limits = if loosest == self.limits_for {
+            let all = self.limits.get_or_init(|| {
+                self.log_g[..self.problem.n * m]
+                    .iter()
+                    .map(|&g| limit(g, rays.tail, rays.gate, loosest))
+                    .collect()
+            });
+            &all[i * m..(i + 1) * m]
         } else {
             own.clear();
             own.extend(
