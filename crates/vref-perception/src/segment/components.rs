@@ -1,6 +1,7 @@
 //! Connected segments of the uncut object pixels, grown back over the
 //! cuts and the objects' feet, the small ones dropped.
 
+use super::enclosed::{FloorScratch, Floors, label_floors};
 use super::merge::{MergeRule, MergeScratch, merge};
 use super::split::jump_limit;
 
@@ -13,6 +14,7 @@ pub(crate) struct Scratch {
     sizes: Vec<u32>,
     renumber: Vec<u32>,
     merge: MergeScratch,
+    floors: FloorScratch,
 }
 
 impl Scratch {
@@ -31,6 +33,7 @@ impl Scratch {
             + self.sizes.capacity()
             + self.renumber.capacity()
             + self.merge.capacity()
+            + self.floors.capacity()
     }
 }
 
@@ -60,6 +63,8 @@ pub(crate) fn neighbours(i: usize, width: usize, pixels: usize) -> impl Iterator
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Layers<'a> {
     pub z: &'a [f32],
+    /// Height above the support.
+    pub height: &'a [f32],
     /// High enough above the plane to start an object, and not cut.
     pub seed: &'a [bool],
     /// High enough above the plane to belong to an object.
@@ -105,6 +110,7 @@ impl Rule {
 pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [u16]) -> usize {
     let Layers {
         z,
+        height,
         seed,
         grow,
         rgb,
@@ -118,6 +124,7 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
         sizes,
         renumber,
         merge: merge_scratch,
+        floors,
     } = s;
     labels.fill(0);
     sizes.clear();
@@ -188,6 +195,16 @@ pub(crate) fn label(layers: Layers<'_>, rule: Rule, s: &mut Scratch, out: &mut [
         |p, q| joined(z, p, q, &rule),
         merge_scratch,
     );
+    // After the merge, which would join a floor to its wall by colour.
+    let floor = Floors {
+        z,
+        height,
+        width,
+        min_pixels: rule.min_pixels,
+        grow_height: rule.grow_height,
+    };
+    let added = label_floors(floor, labels, sizes.len() as u32, floors);
+    sizes.resize(sizes.len() + added as usize, 0);
     sizes.iter_mut().for_each(|s| *s = 0);
     for &l in labels.iter() {
         sizes[l as usize] += 1;

@@ -17,6 +17,7 @@
 //! size allocate nothing.
 
 mod components;
+mod enclosed;
 mod masks;
 mod merge;
 mod normals;
@@ -452,6 +453,7 @@ impl Segmenter {
         }
         let layers = components::Layers {
             z: &self.z,
+            height: &self.height,
             seed: &self.seed,
             grow: &self.grow,
             rgb: frame.colour.as_raw(),
