@@ -60,26 +60,28 @@ const MOMENTS: u64 = 40;
 
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
-    UP_VECTORS.store(args.up_vectors, std::sync::atomic::Ordering::Relaxed);
     let (mut config, _) = vref_config::Config::load(None).context("loading the configuration")?;
     if let Some(seed) = args.seed {
         config.feeds.seed = seed;
     }
     let params: Params = config.matching;
-    let limits = Limits::default();
+    let how = Observe {
+        limits: Limits::default(),
+        up_vectors: args.up_vectors,
+    };
     println!(
         "objects  method  accuracy  precision  ece    unmatched  with partner  residual p50/p90  0.4 x spacing  solve p50"
     );
     for &n in &args.objects {
         let (_, world) = vref_feed::synthetic_world(&config.feeds, (n > 0).then_some(n))
             .with_context(|| format!("the live world with {n} objects"))?;
-        let residuals = residuals(&world, &limits)?;
+        let residuals = residuals(&world, &how)?;
         for &method in &args.method {
             let mut tally = Tally::default();
             let (mut unmatched, mut humans, mut partners) = (0, 0, 0);
             for k in 0..MOMENTS {
                 let t = 1_000.0 + k as f64 * 1.7;
-                let (human, robot) = views(&world, t, k, &limits)?;
+                let (human, robot) = views(&world, t, k, &how)?;
                 let problem = Problem::new(&human, &robot, params.beta)?;
                 let start = std::time::Instant::now();
                 let solution = solve(method, &problem, &params)?;
@@ -106,7 +108,7 @@ fn main() -> anyhow::Result<()> {
             );
         }
         if let Some(dt) = args.resume_after {
-            resumed(&world, &params, &limits, n, dt, args.chain.max(1))?;
+            resumed(&world, &params, &how, n, dt, args.chain.max(1))?;
         }
     }
     Ok(())
@@ -165,7 +167,7 @@ impl Tally {
 fn resumed(
     world: &LiveWorld,
     params: &Params,
-    limits: &Limits,
+    how: &Observe,
     objects: usize,
     dt: f64,
     chain: u64,
@@ -174,19 +176,19 @@ fn resumed(
     let mut resumed = 0;
     for k in 0..MOMENTS {
         let t = 1_000.0 + k as f64 * 1.7;
-        let (human, robot) = views(world, t, k, limits)?;
+        let (human, robot) = views(world, t, k, how)?;
         let mut engine = Engine::new(Method::Rigid, Tier::Live, *params)?;
         engine.update(Side::Human, &human)?;
         engine.update(Side::Robot, &robot)?;
         engine.solve()?;
         for step in 1..chain {
-            let (human, robot) = views(world, t + step as f64 * dt, step * MOMENTS + k, limits)?;
+            let (human, robot) = views(world, t + step as f64 * dt, step * MOMENTS + k, how)?;
             engine.update(Side::Human, &human)?;
             engine.update(Side::Robot, &robot)?;
             engine.solve()?;
         }
         let later = t + chain as f64 * dt;
-        let (human, robot) = views(world, later, chain * MOMENTS + k, limits)?;
+        let (human, robot) = views(world, later, chain * MOMENTS + k, how)?;
         let truth = world.truth(later);
         let start = std::time::Instant::now();
         engine.update(Side::Human, &human)?;
@@ -211,16 +213,23 @@ fn resumed(
     Ok(())
 }
 
+/// How the views are measured: the graph's limits, and whether each view
+/// carries its camera's up vector (`--up-vectors`).
+struct Observe {
+    limits: Limits,
+    up_vectors: bool,
+}
+
 fn views(
     world: &LiveWorld,
     t: f64,
     frame: u64,
-    limits: &Limits,
+    how: &Observe,
 ) -> anyhow::Result<(SceneGraph, SceneGraph)> {
     let view = |side| -> anyhow::Result<SceneGraph> {
         let view = world.observe(side, t, frame);
-        let graph = view.graph(limits)?;
-        if !UP_VECTORS.load(std::sync::atomic::Ordering::Relaxed) {
+        let graph = view.graph(&how.limits)?;
+        if !how.up_vectors {
             return Ok(graph);
         }
         let up = view.camera.direction_to_camera(&nalgebra::Vector3::z());
@@ -229,18 +238,15 @@ fn views(
     Ok((view(Side::Human)?, view(Side::Robot)?))
 }
 
-/// `--up-vectors`, read by [`views`].
-static UP_VECTORS: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
 /// Over the moments: median and 90th percentile of the distance between
 /// each true pair under the rigid motion fitted to all true pairs, and the
 /// median of `rigid`'s sigma (0.4 x the robot view's median
 /// nearest-neighbour distance).
-fn residuals(world: &LiveWorld, limits: &Limits) -> anyhow::Result<(f64, f64, f64)> {
+fn residuals(world: &LiveWorld, how: &Observe) -> anyhow::Result<(f64, f64, f64)> {
     let (mut all, mut sigmas) = (Vec::new(), Vec::new());
     for k in 0..MOMENTS {
         let t = 1_000.0 + k as f64 * 1.7;
-        let (human, robot) = views(world, t, k, limits)?;
+        let (human, robot) = views(world, t, k, how)?;
         let position =
             |g: &SceneGraph, id: u64| g.objects().iter().find(|o| o.id == id).map(|o| o.position);
         let (from, to): (Vec<_>, Vec<_>) = world

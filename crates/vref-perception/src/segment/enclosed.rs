@@ -186,15 +186,15 @@ mod tests {
         }
     }
 
+    /// The floors of a 12-pixel-wide image whose one segment is label 1.
+    fn search(z: &[f32], height: &[f32], labels: &mut [u32]) -> u32 {
+        label_floors(floors(z, height), labels, 2, &mut FloorScratch::default())
+    }
+
     #[test]
     fn a_raised_floor_inside_an_object_is_a_segment_of_its_own() {
         let (z, height, mut labels) = pot(0.005);
-        let added = label_floors(
-            floors(&z, &height),
-            &mut labels,
-            2,
-            &mut FloorScratch::default(),
-        );
+        let added = search(&z, &height, &mut labels);
         assert_eq!(added, 1);
         assert_eq!(labels[6 * 12 + 6], 2);
         // The table outside touches the image's edge: never labelled.
@@ -204,12 +204,7 @@ mod tests {
     #[test]
     fn the_table_seen_through_a_ring_stays_table() {
         let (z, height, mut labels) = pot(0.0005);
-        let added = label_floors(
-            floors(&z, &height),
-            &mut labels,
-            2,
-            &mut FloorScratch::default(),
-        );
+        let added = search(&z, &height, &mut labels);
         assert_eq!(added, 0);
         assert_eq!(labels[6 * 12 + 6], 0);
     }
@@ -224,12 +219,7 @@ mod tests {
                 z[v * 12 + u] = 0.0;
             }
         }
-        let added = label_floors(
-            floors(&z, &height),
-            &mut labels,
-            2,
-            &mut FloorScratch::default(),
-        );
+        let added = search(&z, &height, &mut labels);
         assert_eq!(added, 0);
     }
 
@@ -245,12 +235,7 @@ mod tests {
                 labels[j] = 1;
             }
         }
-        let added = label_floors(
-            floors(&z, &height),
-            &mut labels,
-            2,
-            &mut FloorScratch::default(),
-        );
+        let added = search(&z, &height, &mut labels);
         assert_eq!(added, 1);
         assert_eq!(labels[6 * w + 6], 2);
     }

@@ -295,6 +295,12 @@ impl Rays {
         }
     }
 
+    /// Each pair's [`limit`] under `loosest`, for its appearance in `log_g`.
+    fn limits<'s>(&self, log_g: &'s [f64], loosest: f64) -> impl Iterator<Item = f64> + 's {
+        let (tail, gate) = (self.tail, self.gate);
+        log_g.iter().map(move |&g| limit(g, tail, gate, loosest))
+    }
+
     /// Human object `i`'s ray under `rotation` and its `alpha`.
     fn human_ray(&self, i: usize, rotation: &nalgebra::Matrix3<f64>) -> ([f64; 3], f64) {
         let (v, h) = self.human[i];
@@ -755,19 +761,13 @@ impl<'a> Costs<'a> {
         let mut own = std::mem::take(&mut scratch.limits);
         let limits = if loosest == self.limits_for {
             let all = self.limits.get_or_init(|| {
-                self.log_g[..self.problem.n * m]
-                    .iter()
-                    .map(|&g| limit(g, rays.tail, rays.gate, loosest))
+                rays.limits(&self.log_g[..self.problem.n * m], loosest)
                     .collect()
             });
             &all[i * m..(i + 1) * m]
         } else {
             own.clear();
-            own.extend(
-                log_g
-                    .iter()
-                    .map(|&g| limit(g, rays.tail, rays.gate, loosest)),
-            );
+            own.extend(rays.limits(log_g, loosest));
             &own[..]
         };
         rays.bounded_row(&row, limits, scratch);
@@ -1086,10 +1086,7 @@ mod tests {
                 let moved = motion.apply(&problem.human_positions[i]);
                 let row = rays.row_inputs(i, &motion, &moved, &costs.robot_xyz, m);
                 let log_g = &log_g[i * m..(i + 1) * m];
-                let limits: Vec<f64> = log_g
-                    .iter()
-                    .map(|&g| super::limit(g, rays.tail, rays.gate, rp.unmatched_cost))
-                    .collect();
+                let limits: Vec<f64> = rays.limits(log_g, rp.unmatched_cost).collect();
                 let mut scalar = RowScratch::default();
                 super::bounded_row_of(&row, &limits, &mut scalar);
                 let mut dispatched = RowScratch::default();
