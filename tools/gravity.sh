@@ -10,7 +10,8 @@
 #   bash tools/carryover-data.sh && bash tools/gravity.sh ['hypotheses = 50']
 #
 # An argument sets `[matching.rigid]` settings for the run, as
-# tools/rigid-train.sh's does.
+# tools/rigid-train.sh's does; VREF_METHOD=clipper measures `clipper`
+# instead (its rise gate).
 # Needs `cargo build --release -p vref -p vref-research --bins --examples` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,7 +23,8 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 config=$work/vref.toml
 python3 tools/rigid-settings.py "${1:-}" "$config"
-echo "settings: ${1:-defaults}"
+method=${VREF_METHOD:-rigid}
+echo "method: $method; settings: ${1:-defaults}"
 for preset in moi mrc; do
   for seed in $(seq 100 109); do
     [ -s "$up/$preset$seed.jsonl" ] ||
@@ -36,7 +38,7 @@ for preset in moi mrc; do
   for where in "$dir" "$up"; do
     label="sim $preset, $([ "$where" = "$up" ] && echo "with up vectors" || echo "without")"
     for seed in $(seq 100 109); do
-      "$vref" eval --dataset "$where/$preset$seed.jsonl" --method rigid --json --config "$config"
+      "$vref" eval --dataset "$where/$preset$seed.jsonl" --method "$method" --json --config "$config"
     done | python3 -c '
 import json, sys
 r = [json.loads(l) for l in sys.stdin]
@@ -54,7 +56,7 @@ echo "|---|---|---|"
 for kind in moi100-across moi100-shuffled mrc100-across mrc100-shuffled; do
   cells=""
   for side in without with; do
-    "$vref" eval --dataset "$work/$side/$kind.jsonl" --method rigid --answers "$work/a.jsonl" --json --config "$config" > /dev/null
+    "$vref" eval --dataset "$work/$side/$kind.jsonl" --method "$method" --answers "$work/a.jsonl" --json --config "$config" > /dev/null
     cells+=" | $(python3 -c '
 import json, sys
 rows = [json.loads(l) for l in open(sys.argv[1])]

@@ -70,3 +70,43 @@ fn views_that_keep_no_distance_give_at_most_one_pair() {
     let solution = solve(Method::Clipper, &problem, &params).unwrap();
     assert!(solution.assignment.iter().flatten().count() <= 1);
 }
+
+/// Objects in pairs mirrored across a level plane keep every distance
+/// under the mirrored pairing too: only the rise along up tells the two
+/// pairings apart. With both up vectors `clipper` keeps the pairing whose
+/// rises agree, and with the robot's up turned over, the mirror image.
+#[test]
+fn up_vectors_tell_a_layout_from_its_mirror_across_a_level_plane() {
+    let lower = [
+        [0.00, 0.00, -0.10],
+        [0.31, 0.02, -0.15],
+        [0.12, 0.27, -0.03],
+        [-0.18, 0.11, -0.27],
+    ];
+    let mut human: Vec<_> = lower
+        .iter()
+        .map(|p| Point3::new(p[0], p[1], p[2]))
+        .collect();
+    human.extend(lower.iter().map(|p| Point3::new(p[0], p[1], -p[2])));
+    let rotation = Rotation3::from_euler_angles(0.3, -0.8, 1.9);
+    let translation = Vector3::new(0.4, -0.2, 1.5);
+    let robot: Vec<_> = human.iter().map(|p| rotation * p + translation).collect();
+    let up = Vector3::new(0.0, 0.0, 1.0);
+    let robot_up = rotation * up;
+    let mirror = |i: usize| (i + 4) % 8;
+    let params = Params::default();
+    for (sign, expected) in [
+        (1.0, (0..8).collect::<Vec<_>>()),
+        (-1.0, (0..8).map(mirror).collect()),
+    ] {
+        let human_graph = graph(&human, 1).with_up(Some([up.x, up.y, up.z])).unwrap();
+        let turned = sign * robot_up;
+        let robot_graph = graph(&robot, 101)
+            .with_up(Some([turned.x, turned.y, turned.z]))
+            .unwrap();
+        let problem = Problem::new(&human_graph, &robot_graph, params.beta).unwrap();
+        let solution = solve(Method::Clipper, &problem, &params).unwrap();
+        let answer: Vec<_> = solution.assignment.iter().map(|a| a.unwrap()).collect();
+        assert_eq!(answer, expected, "robot up x {sign}");
+    }
+}

@@ -13,6 +13,13 @@
 //! `round(u^T M_d u)` picks the pairs kept, and a Hungarian assignment over
 //! them makes the answer one-to-one. Objects outside the kept pairs get no
 //! partner.
+//!
+//! Where both views know their up vector, a turn about up is the only
+//! rotation left, so an edge's rise along up is kept as well as its length:
+//! two pairs whose rises disagree by more than `epsilon` are inconsistent.
+//! The rise gates and does not weigh: in the kernel too it took accuracy
+//! down (sim mrc training seeds 0.370 to 0.329, against 0.385 as a gate),
+//! every true edge's weight shrinking by its rise's noise.
 
 use serde::{Deserialize, Serialize};
 
@@ -167,6 +174,7 @@ impl Consistency {
         let size = pairs.len();
         let hp = &problem.human_positions;
         let rp = &problem.robot_positions;
+        let ups = problem.human_up.zip(problem.robot_up);
         let bound = epsilon * (beta / 2.0).sqrt();
         let mut weights = vec![0.0; size * size];
         for a in 0..size {
@@ -177,8 +185,10 @@ impl Consistency {
                 if i == k || j == l {
                     continue;
                 }
-                let c = ((hp[i] - hp[k]).norm() - (rp[j] - rp[l]).norm()).abs();
-                if c <= bound {
+                let (h, r) = (hp[i] - hp[k], rp[j] - rp[l]);
+                let c = (h.norm() - r.norm()).abs();
+                let rise = ups.map_or(0.0, |(hu, ru)| (hu.dot(&h) - ru.dot(&r)).abs());
+                if c <= bound && rise <= bound {
                     let w = (-c * c / beta).exp();
                     weights[a * size + b] = w;
                     weights[b * size + a] = w;
