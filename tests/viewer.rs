@@ -769,7 +769,8 @@ fn vref_view_images_show_each_bop_scene_fed_with_its_mask_outlines() {
 
     // The scenes as the feeds measure them: which objects each image has.
     let world =
-        vref_feed::BopWorld::load(&table, config.perception, config.scene.limits(), 1.0).unwrap();
+        vref_feed::BopWorld::load(&table, None, config.perception, config.scene.limits(), 1.0)
+            .unwrap();
     let mut latest_snapshot: [Option<String>; 2] = [None, None];
     let mut size: [Option<(u32, u32)>; 2] = [None, None];
     let mut scenes_shown = std::collections::BTreeSet::new();

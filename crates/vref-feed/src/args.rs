@@ -46,6 +46,13 @@ pub struct FeedArgs {
     /// 5s, 500ms.
     #[arg(long, value_name = "D", default_value = "5s", value_parser = vref_measure::parse_duration)]
     pub hold: Duration,
+    /// BOP source: which way is up (against gravity) in the datasets'
+    /// world frame, e.g. 0,0,1; each snapshot then carries its camera's up
+    /// vector from the camera's pose (BOP does not say which way its
+    /// worlds stand; the rendered scenes of ../shared/data/bop stand on
+    /// z). Default: none.
+    #[arg(long, value_name = "X,Y,Z", value_parser = vref_measure::parse_direction)]
+    pub world_up: Option<[f64; 3]>,
     /// The former spelling of --hold, in seconds.
     #[arg(
         long,
@@ -83,6 +90,21 @@ pub enum SourceSpec {
     Bop(PathBuf),
     Rgbd(PathBuf),
     Rosbag(PathBuf),
+}
+
+/// As `--source` is written: `synthetic`, `bop:DIR`, ...
+impl std::fmt::Display for SourceSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (kind, path) = match self {
+            SourceSpec::Synthetic => return f.write_str("synthetic"),
+            SourceSpec::Dataset(p) => ("dataset", p),
+            SourceSpec::Recording(p) => ("recording", p),
+            SourceSpec::Bop(p) => ("bop", p),
+            SourceSpec::Rgbd(p) => ("rgbd", p),
+            SourceSpec::Rosbag(p) => ("rosbag", p),
+        };
+        write!(f, "{kind}:{}", path.display())
+    }
 }
 
 impl FromStr for SourceSpec {

@@ -87,9 +87,12 @@ pub struct BopGesture {
 impl BopWorld {
     /// Every scene of the BOP dataset(s) at `dir` (a dataset folder or a
     /// folder of them), images 0 (robot) and 1 (headset) of split `test`.
-    /// Scenes that cannot be read are left out with a warning.
+    /// Scenes that cannot be read are left out with a warning. With
+    /// `world_up` (which way is up in the datasets' world frame) each view
+    /// carries its camera's up vector, from the camera's pose.
     pub fn load(
         dir: &Path,
+        world_up: Option<[f64; 3]>,
         perception: PerceptionSettings,
         limits: Limits,
         hold_s: f64,
@@ -102,7 +105,7 @@ impl BopWorld {
             robot_image: 0,
             human_image: 1,
             perception,
-            world_up: None,
+            world_up,
         };
         let mut pairs = Vec::new();
         let mut sources = Vec::new();

@@ -12,6 +12,8 @@ pub enum SetupError {
     UnknownSource(String),
     #[error("source {0:?} names no file")]
     NoFile(String),
+    #[error("--world-up applies to bop: sources only, not to --source {0}")]
+    WorldUpWithoutBop(String),
     #[error("{what} is {value}, but must be positive and finite")]
     BadNumber { what: &'static str, value: f64 },
     #[error("[feeds] preset")]

@@ -100,6 +100,9 @@ impl Feed {
         } else {
             None
         };
+        if args.world_up.is_some() && !matches!(args.source, SourceSpec::Bop(_)) {
+            return Err(SetupError::WorldUpWithoutBop(args.source.to_string()));
+        }
         let side = role.side();
         let (source, description) = match &args.source {
             SourceSpec::Synthetic => {
@@ -133,7 +136,13 @@ impl Feed {
             }
             SourceSpec::Bop(path) => {
                 let hold_s = positive(args.hold_flag(), args.hold_seconds())?;
-                let world = BopWorld::load(path, config.perception, config.scene.limits(), hold_s)?;
+                let world = BopWorld::load(
+                    path,
+                    args.world_up,
+                    config.perception,
+                    config.scene.limits(),
+                    hold_s,
+                )?;
                 let bop = BopSource::new(world, side, args.epoch_ns, rate_hz, gesture_rate_hz)?;
                 let description = format!(
                     "BOP {} ({} scenes, {hold_s} s each)",

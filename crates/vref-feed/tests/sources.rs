@@ -25,6 +25,7 @@ fn args(source: SourceSpec) -> FeedArgs {
         epoch_ns: 0,
         hold: std::time::Duration::from_secs(5),
         hold_s: None,
+        world_up: None,
     }
 }
 

@@ -33,6 +33,8 @@ pub struct DemoOptions {
     pub source: SourceSpec,
     /// BOP source: seconds each scene is shown.
     pub hold_s: f64,
+    /// BOP source: which way is up in the datasets' world frame.
+    pub world_up: Option<[f64; 3]>,
     /// How long to query once the services are ready.
     pub duration: Duration,
     /// Objects in the synthetic world (default: the preset's draw).
@@ -105,6 +107,11 @@ pub fn run(
 ) -> Result<Finished<Summary>, RunError> {
     let (world, feed_args) = match &options.source {
         SourceSpec::Synthetic => {
+            if options.world_up.is_some() {
+                return Err(
+                    vref_feed::SetupError::WorldUpWithoutBop(options.source.to_string()).into(),
+                );
+            }
             let (_, world) = synthetic_world(&config.feeds, options.objects)?;
             let feed_args = match options.objects {
                 Some(n) => vec!["--objects".to_owned(), n.to_string()],
@@ -115,20 +122,24 @@ pub fn run(
         SourceSpec::Bop(dir) => {
             let world = BopWorld::load(
                 dir,
+                options.world_up,
                 config.perception,
                 config.scene.limits(),
                 options.hold_s,
             )?;
-            let feed_args = vec![
+            let mut feed_args = vec![
                 "--source".to_owned(),
                 format!("bop:{}", dir.display()),
                 "--hold".to_owned(),
                 vref_measure::format_duration(Duration::from_secs_f64(options.hold_s)),
             ];
+            if let Some([x, y, z]) = options.world_up {
+                feed_args.extend(["--world-up".to_owned(), format!("{x},{y},{z}")]);
+            }
             (Truth::Bop(world), feed_args)
         }
         other => {
-            return Err(RunError::DemoSource(format!("{other:?}")));
+            return Err(RunError::DemoSource(other.to_string()));
         }
     };
     prepare(config, bin_dir, "demo", "vdemo")?.run_system(

@@ -314,7 +314,7 @@ pub struct BopArgs {
     /// e.g. 0,0,1: each view then carries its camera's up vector from
     /// cam_R_w2c (BOP does not say which way its worlds stand; the
     /// rendered scenes of ../shared/data/bop stand on z). Default: none.
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_direction)]
+    #[arg(long, value_name = "X,Y,Z", value_parser = vref_measure::parse_direction)]
     pub world_up: Option<[f64; 3]>,
     /// Output dataset file, written whole or not at all (default: stdout).
     #[arg(long, value_name = "FILE")]
@@ -364,25 +364,6 @@ pub struct ConfigCheckArgs {
 }
 
 /// Three comma-separated finite numbers, not all zero.
-fn parse_direction(s: &str) -> Result<[f64; 3], String> {
-    let parts: Vec<&str> = s.split(',').collect();
-    let [x, y, z] = parts.as_slice() else {
-        return Err(format!("{s:?}: expected X,Y,Z"));
-    };
-    let number = |p: &str| {
-        p.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("{p:?} is not a finite number"))
-    };
-    let v = [number(x)?, number(y)?, number(z)?];
-    if v.iter().all(|&c| c == 0.0) {
-        return Err("a direction cannot be 0,0,0".to_owned());
-    }
-    Ok(v)
-}
-
 fn parse_method(s: &str) -> Result<Method, String> {
     s.parse().map_err(|e: vref_match::MatchError| e.to_string())
 }
@@ -494,6 +475,11 @@ pub struct DemoArgs {
     /// The former spelling of --hold, in seconds.
     #[arg(long, value_name = "SECONDS", hide = true, conflicts_with = "hold", value_parser = positive_seconds)]
     pub hold_s: Option<f64>,
+    /// BOP source: which way is up in the datasets' world frame, e.g.
+    /// 0,0,1 (the feeds' --world-up): every snapshot carries its camera's
+    /// up vector. Default: none.
+    #[arg(long, value_name = "X,Y,Z", value_parser = vref_measure::parse_direction)]
+    pub world_up: Option<[f64; 3]>,
     /// How long to query after the services are ready, e.g. 20s.
     #[arg(long, value_name = "D", default_value = "20s", value_parser = vref_measure::parse_duration)]
     pub duration: std::time::Duration,

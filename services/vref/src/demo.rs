@@ -13,6 +13,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
     let options = DemoOptions {
         source: args.source.clone(),
         hold_s: args.hold_s(),
+        world_up: args.world_up,
         duration: args.duration,
         objects: args.objects,
         query_rate: args.query_rate,

@@ -51,7 +51,7 @@ pub fn run(args: &ViewArgs) -> Result<(), Failure> {
 pub fn load_images(config: &Config, dir: &Path) -> Result<Arc<Images>, Failure> {
     // The feeds' hold time does not matter here: the viewer follows the
     // snapshots' track ids, not a schedule.
-    let world = BopWorld::load(dir, config.perception, config.scene.limits(), 1.0)
+    let world = BopWorld::load(dir, None, config.perception, config.scene.limits(), 1.0)
         .with_context(|| format!("--images bop:{}", dir.display()))
         .bad_input()?;
     let images = vref_view::load_bop_images(&world, config.perception.image_limit())
