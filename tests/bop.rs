@@ -128,12 +128,15 @@ fn the_live_demo_on_bop_scenes_answers_pointing_right() {
 
     // Issue 40, case 6: at a hold of 1 s (slots of 0.5 s, no longer than
     // the settling time) the demo never asked, and said "no answer from
-    // the services within 30s" (exit 1) while they were fine.
+    // the services within 30s" (exit 1) while they were fine. With the
+    // world's up, so that the feeds' snapshots carry up vectors too.
     let run = vref(
         &[
             "demo",
             "--source",
             &source,
+            "--world-up",
+            "0,0,1",
             "--hold",
             "1s",
             "--duration",
