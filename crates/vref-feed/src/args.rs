@@ -65,6 +65,21 @@ pub struct FeedArgs {
 }
 
 impl FeedArgs {
+    /// The command line's defaults with `source`: what a feed started with
+    /// only `--source` would run.
+    pub fn with_source(source: SourceSpec) -> Self {
+        Self {
+            config: None,
+            source,
+            rate: None,
+            objects: None,
+            epoch_ns: 0,
+            hold: Duration::from_secs(5),
+            hold_s: None,
+            world_up: None,
+        }
+    }
+
     /// Seconds each scene pair is shown: --hold, or the hidden --hold-s
     /// if that was given.
     pub fn hold_seconds(&self) -> f64 {
@@ -127,6 +142,41 @@ impl FromStr for SourceSpec {
             "rgbd" => Ok(SourceSpec::Rgbd(PathBuf::from(file))),
             "rosbag" => Ok(SourceSpec::Rosbag(PathBuf::from(file))),
             _ => Err(SetupError::UnknownSource(s.to_owned())),
+        }
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Command {
+        #[command(flatten)]
+        args: FeedArgs,
+    }
+
+    #[test]
+    fn with_source_is_what_the_command_line_gives_by_default() {
+        let parsed = Command::try_parse_from(["feed", "--source", "bop:a/b"]).unwrap();
+        assert_eq!(
+            parsed.args,
+            FeedArgs::with_source(SourceSpec::Bop(PathBuf::from("a/b")))
+        );
+    }
+
+    #[test]
+    fn a_source_prints_as_it_is_written() {
+        for text in [
+            "synthetic",
+            "dataset:a.jsonl",
+            "bop:a/b",
+            "rgbd:f",
+            "rosbag:x.mcap",
+        ] {
+            assert_eq!(text.parse::<SourceSpec>().unwrap().to_string(), text);
         }
     }
 }

@@ -59,16 +59,7 @@ fn targets_are_true_pairs_of_the_scene_shown_and_change_per_slot() {
 
 #[test]
 fn both_feeds_show_the_scene_of_the_moment_and_the_gesture_feed_points() {
-    let args = FeedArgs {
-        config: None,
-        source: SourceSpec::Bop(table()),
-        rate: None,
-        objects: None,
-        epoch_ns: 0,
-        hold: std::time::Duration::from_secs(5),
-        hold_s: None,
-        world_up: None,
-    };
+    let args = FeedArgs::with_source(SourceSpec::Bop(table()));
     let world = world();
     let config = Config::default();
     for role in [Role::Perception, Role::Gesture] {
@@ -155,12 +146,7 @@ fn the_worlds_up_gives_each_view_its_cameras_up_vector() {
     for pair in upright.pairs() {
         let (hu, ru) = (pair.human.up().unwrap(), pair.robot.up().unwrap());
         let place = |graph: &vref_scene::SceneGraph, id: u64| {
-            graph
-                .objects()
-                .iter()
-                .find(|o| o.id == id)
-                .unwrap()
-                .position
+            graph.objects()[graph.index_of(id).unwrap()].position
         };
         for (graph, up) in [(&pair.human, hu), (&pair.robot, ru)] {
             // Up, and not some other fixed direction: the objects lie on
@@ -221,14 +207,8 @@ fn the_worlds_up_gives_each_view_its_cameras_up_vector() {
     );
 
     let args = |source, world_up| FeedArgs {
-        config: None,
-        source,
-        rate: None,
-        objects: None,
-        epoch_ns: 0,
-        hold: std::time::Duration::from_secs(5),
-        hold_s: None,
         world_up,
+        ..FeedArgs::with_source(source)
     };
     let config = Config::default();
     let mut feed = Feed::prepare(

@@ -17,16 +17,7 @@ const SECOND: u64 = 1_000_000_000;
 const NOW: u64 = 1_720_000_000 * SECOND + 123_456_789;
 
 fn args(source: SourceSpec) -> FeedArgs {
-    FeedArgs {
-        config: None,
-        source,
-        rate: None,
-        objects: None,
-        epoch_ns: 0,
-        hold: std::time::Duration::from_secs(5),
-        hold_s: None,
-        world_up: None,
-    }
+    FeedArgs::with_source(source)
 }
 
 fn prepare(role: Role, args: &FeedArgs) -> Result<Feed, SetupError> {
