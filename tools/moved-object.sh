@@ -3,9 +3,11 @@
 # (docs/method.md, "An object that moved"): in every scene of the vref-sim
 # training files with up vectors (seeds 100-102, tools/gravity.sh's), one
 # human object with a partner is moved D metres (default 0.2) along the
-# table (a random direction across the view's up), the other objects
-# untouched; then the moved objects' answers, and the `ok` answers with a
-# wrong partner among the others, as they are and after the move.
+# table (a random direction across the view's up) to a free place: no
+# object of either view within 0.1 m of it (the robot's placed by the
+# motion the ground truth's pairs fit); the other objects untouched.
+# Then the moved objects' answers, and the `ok` answers with a wrong
+# partner among the others, as they are and after the move.
 #
 #   bash tools/carryover-data.sh && bash tools/gravity.sh && bash tools/moved-object.sh [D]
 #
@@ -17,34 +19,81 @@ dir=${VREF_CARRY_DIR:-target/carry}/up
 distance=${1:-0.2}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "| training file | moved objects: right partner (of them ok) | no partner | wrong partner (of them ok) | other objects' wrong ok, unmoved | after the move |"
-echo "|---|---|---|---|---|---|"
+echo "| training file | scenes with an object moved | moved objects: right partner (of them ok) | no partner | wrong partner (of them ok) | other objects' wrong ok, unmoved | after the move |"
+echo "|---|---|---|---|---|---|---|"
 for f in moi100 moi101 moi102 mrc100 mrc101 mrc102; do
   [ -s "$dir/$f.jsonl" ] || { echo "$dir/$f.jsonl missing: run tools/gravity.sh first" >&2; exit 1; }
   python3 - "$dir/$f.jsonl" "$work/moved.jsonl" "$distance" <<'PY'
 import json, math, random, sys
 source, target, distance = sys.argv[1], sys.argv[2], float(sys.argv[3])
+FREE = 0.1
 rng = random.Random(7)
+
+
+def sub(a, b):
+    return [x - y for x, y in zip(a, b)]
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def robot_to_human(pairs):
+    """The rotation and translation taking robot points onto their human
+    partners (Horn's quaternion, the largest eigenvector by power steps)."""
+    h = [p for p, _ in pairs]
+    r = [q for _, q in pairs]
+    ch = [sum(p[k] for p in h) / len(h) for k in range(3)]
+    cr = [sum(q[k] for q in r) / len(r) for k in range(3)]
+    s = [[sum((q[a] - cr[a]) * (p[b] - ch[b]) for p, q in zip(h, r)) for b in range(3)]
+         for a in range(3)]
+    (xx, xy, xz), (yx, yy, yz), (zx, zy, zz) = s
+    n = [[xx + yy + zz, yz - zy, zx - xz, xy - yx],
+         [yz - zy, xx - yy - zz, xy + yx, zx + xz],
+         [zx - xz, xy + yx, -xx + yy - zz, yz + zy],
+         [xy - yx, zx + xz, yz + zy, -xx - yy + zz]]
+    shift = sum(abs(v) for row in n for v in row) + 1.0
+    v = [1.0, 0.1, 0.2, 0.3]
+    for _ in range(500):
+        v = [sum((n[a][b] + (shift if a == b else 0.0)) * v[b] for b in range(4)) for a in range(4)]
+        norm = math.sqrt(dot(v, v))
+        v = [x / norm for x in v]
+    w, x, y, z = v
+    rot = [[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+           [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
+           [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]]
+    return lambda q: [dot(rot[a], sub(q, cr)) + ch[a] for a in range(3)]
+
+
 moved = {}
 with open(target, "w") as out:
     for line in open(source):
         pair = json.loads(line)
         human = pair["human"]
         up = human["up"]
-        partnered = sorted(h for h, _ in pair["ground_truth"])
-        if partnered:
+        at = {o["id"]: o["position"] for o in human["objects"]}
+        there = {o["id"]: o["position"] for o in pair["robot"]["objects"]}
+        truth = pair["ground_truth"]
+        partnered = sorted(h for h, _ in truth)
+        if len(truth) >= 3:
+            to_human = robot_to_human([(at[h], there[r]) for h, r in truth])
+            occupied = [to_human(q) for q in there.values()]
             h = rng.choice(partnered)
-            while True:
+            for _ in range(100):
                 v = [rng.gauss(0.0, 1.0) for _ in range(3)]
-                along = sum(a * b for a, b in zip(v, up))
+                along = dot(v, up)
                 v = [a - along * b for a, b in zip(v, up)]
-                norm = math.sqrt(sum(a * a for a in v))
-                if norm > 1e-6:
+                norm = math.sqrt(dot(v, v))
+                if norm < 1e-6:
+                    continue
+                place = [p + distance * a / norm for p, a in zip(at[h], v)]
+                others = [p for k, p in at.items() if k != h] + occupied
+                if all(math.dist(place, p) >= FREE for p in others):
+                    for o in human["objects"]:
+                        if o["id"] == h:
+                            o["position"] = place
+                    moved[pair["name"]] = h
                     break
-            for o in human["objects"]:
-                if o["id"] == h:
-                    o["position"] = [p + distance * a / norm for p, a in zip(o["position"], v)]
-            moved[pair["name"]] = h
         out.write(json.dumps(pair) + "\n")
 json.dump(moved, open(target + ".moved", "w"))
 PY
@@ -67,7 +116,7 @@ right = [r for r in m if r["correct"]]
 none = [r for r in m if r["partner"] is None]
 wrong = [r for r in m if r["partner"] is not None and not r["correct"]]
 ok = lambda rs: sum(r["status"] == "ok" for r in rs)
-print("| %s | %d (%d) | %d | %d (%d) | %d | %d |" % (name, len(right), ok(right), len(none),
-      len(wrong), ok(wrong), wrong_ok(b), wrong_ok(a)))
+print("| %s | %d of %d | %d (%d) | %d | %d (%d) | %d | %d |" % (name, len(moved), len(names),
+      len(right), ok(right), len(none), len(wrong), ok(wrong), wrong_ok(b), wrong_ok(a)))
 PY
 done
