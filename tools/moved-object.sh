@@ -6,8 +6,11 @@
 # table (a random direction across the view's up) to a free place: no
 # object of either view within 0.1 m of it (the robot's placed by the
 # motion the ground truth's pairs fit); the other objects untouched.
-# Then the moved objects' answers, and the `ok` answers with a wrong
-# partner among the others, as they are and after the move.
+# The same on the rendered BOP scenes' training halves (000000-000005 of
+# ../shared/data/bop, imported with --world-up 0,0,1), with the dataset's
+# masks and with vref's own segments. Then the moved objects' answers, and
+# the `ok` answers with a wrong partner among the others, as they are and
+# after the move.
 #
 #   bash tools/carryover-data.sh && bash tools/gravity.sh && bash tools/moved-object.sh [D]
 #
@@ -21,9 +24,9 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 echo "| training file | scenes with an object moved | moved objects: right partner (of them ok) | no partner | wrong partner (of them ok) | other objects' wrong ok, unmoved | after the move |"
 echo "|---|---|---|---|---|---|---|"
-for f in moi100 moi101 moi102 mrc100 mrc101 mrc102; do
-  [ -s "$dir/$f.jsonl" ] || { echo "$dir/$f.jsonl missing: run tools/gravity.sh first" >&2; exit 1; }
-  python3 - "$dir/$f.jsonl" "$work/moved.jsonl" "$distance" <<'PY'
+measure() {
+  local name=$1 file=$2
+  python3 - "$file" "$work/moved.jsonl" "$distance" <<'PY'
 import json, math, random, sys
 source, target, distance = sys.argv[1], sys.argv[2], float(sys.argv[3])
 FREE = 0.1
@@ -97,9 +100,9 @@ with open(target, "w") as out:
         out.write(json.dumps(pair) + "\n")
 json.dump(moved, open(target + ".moved", "w"))
 PY
-  "$vref" eval --dataset "$dir/$f.jsonl" --method rigid --answers "$work/before.jsonl" > /dev/null
+  "$vref" eval --dataset "$file" --method rigid --answers "$work/before.jsonl" > /dev/null
   "$vref" eval --dataset "$work/moved.jsonl" --method rigid --answers "$work/after.jsonl" > /dev/null
-  python3 - "$f" "$work/moved.jsonl" "$work/before.jsonl" "$work/after.jsonl" <<'PY'
+  python3 - "$name" "$work/moved.jsonl" "$work/before.jsonl" "$work/after.jsonl" <<'PY'
 import json, sys
 name, data, before, after = sys.argv[1:]
 names = [json.loads(l)["name"] for l in open(data)]
@@ -119,4 +122,21 @@ ok = lambda rs: sum(r["status"] == "ok" for r in rs)
 print("| %s | %d of %d | %d (%d) | %d | %d (%d) | %d | %d |" % (name, len(moved), len(names),
       len(right), ok(right), len(none), len(wrong), ok(wrong), wrong_ok(b), wrong_ok(a)))
 PY
+}
+for f in moi100 moi101 moi102 mrc100 mrc101 mrc102; do
+  [ -s "$dir/$f.jsonl" ] || { echo "$dir/$f.jsonl missing: run tools/gravity.sh first" >&2; exit 1; }
+  measure "$f" "$dir/$f.jsonl"
+done
+# The rendered BOP scenes' training halves, with the dataset's masks and
+# with vref's own segments, each view carrying its camera's up.
+bop=${VREF_BOP_SOURCE:-../shared/data/bop}
+for family in table floor; do
+  [ -d "$bop/$family" ] || continue
+  for masks in given own; do
+    flags=()
+    [ "$masks" = own ] && flags=(--segment)
+    "$vref" import bop "$bop/$family" --world-up 0,0,1 "${flags[@]}" --out "$work/bop.jsonl" 2>/dev/null
+    grep -E '"name": *"[^"]*00000[0-5]"' "$work/bop.jsonl" > "$work/bop-train.jsonl"
+    measure "bop-$family-train ($masks masks)" "$work/bop-train.jsonl"
+  done
 done
