@@ -242,3 +242,41 @@ fn the_worlds_up_gives_each_view_its_cameras_up_vector() {
         "{err}"
     );
 }
+
+/// A scene whose cameras have no pose keeps being fed with --world-up,
+/// without up vectors (and a warning), rather than with made-up ones.
+#[test]
+fn a_camera_without_a_pose_gives_no_up_vector() {
+    let dir = tempfile::tempdir().unwrap();
+    let dataset = dir.path().join("table");
+    std::fs::create_dir_all(dataset.join("test")).unwrap();
+    std::fs::copy(table().join("camera.json"), dataset.join("camera.json")).unwrap();
+    let status = std::process::Command::new("cp")
+        .arg("-r")
+        .arg(table().join("test/000000"))
+        .arg(dataset.join("test/000000"))
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let cameras = dataset.join("test/000000/scene_camera.json");
+    let text = std::fs::read_to_string(&cameras).unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    for camera in json.as_object_mut().unwrap().values_mut() {
+        let camera = camera.as_object_mut().unwrap();
+        assert!(camera.remove("cam_R_w2c").is_some());
+        camera.remove("cam_t_w2c");
+    }
+    std::fs::write(&cameras, json.to_string()).unwrap();
+    let world = BopWorld::load(
+        &dataset,
+        Some([0.0, 0.0, 1.0]),
+        PerceptionSettings::default(),
+        Limits::default(),
+        5.0,
+    )
+    .unwrap();
+    assert_eq!(world.pairs().len(), 1);
+    let pair = &world.pairs()[0];
+    assert!(pair.robot.up().is_none() && pair.human.up().is_none());
+    assert!(!pair.robot.objects().is_empty());
+}
