@@ -119,7 +119,7 @@ impl BopWorld {
                 );
             }
             for scene in &import.scenes {
-                if world_up.is_some() && (scene.robot.up.is_none() || scene.human.up.is_none()) {
+                if world_up.is_some() && scene.lacks_up() {
                     tracing::warn!(
                         "BOP scene {}: a camera has no pose (cam_R_w2c), so its snapshots carry no up vector",
                         scene.name

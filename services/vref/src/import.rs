@@ -57,6 +57,14 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
     for (scene, reason) in &no_support {
         tracing::warn!("scene {scene}: one view has 0 objects: {reason}");
     }
+    if args.world_up.is_some() {
+        for scene in import.scenes.iter().filter(|s| s.lacks_up()) {
+            tracing::warn!(
+                "scene {}: a camera has no pose (cam_R_w2c): a view without an up vector",
+                scene.name
+            );
+        }
+    }
     let skipped = import.skipped();
     let BopImport { scenes, failed } = import;
     let failures = failed.len();

@@ -254,6 +254,13 @@ pub struct BopScene {
 }
 
 impl BopScene {
+    /// Whether a view carries no up vector: with `world_up`, a camera
+    /// without a pose (`cam_R_w2c`) and, for vref's own segments, without
+    /// a supporting plane either.
+    pub fn lacks_up(&self) -> bool {
+        self.robot.up.is_none() || self.human.up.is_none()
+    }
+
     /// Loads and measures both views of `scene`.
     pub fn measure(
         dataset: &BopDataset,
