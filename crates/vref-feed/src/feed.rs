@@ -60,8 +60,18 @@ pub trait BagReader {
 /// A bag's frames, measured.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MeasuredBag {
-    pub frames: Vec<(u64, Vec<ObjectEntry>)>,
+    pub frames: Vec<BagSnapshot>,
     pub description: String,
+}
+
+/// One measured frame of a bag.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BagSnapshot {
+    /// Nanoseconds, the bag's clock.
+    pub stamp_ns: u64,
+    pub entries: Vec<ObjectEntry>,
+    /// The camera's up vector, where the frame's measurement knew it.
+    pub up: Option<[f32; 3]>,
 }
 
 /// What a feed published before it stopped.

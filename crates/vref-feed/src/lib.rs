@@ -43,7 +43,7 @@ mod ticks;
 pub use args::{FeedArgs, SourceSpec};
 pub use bop::{BopGesture, BopImageSource, BopSceneSource, BopWorld};
 pub use error::{EntryError, RunError, SetupError};
-pub use feed::{BagReader, Feed, MeasuredBag, Published};
+pub use feed::{BagReader, BagSnapshot, Feed, MeasuredBag, Published};
 pub use publication::{Due, Publication, Ray, Target};
 pub use rgbd::RgbdSummary;
 pub use role::Role;

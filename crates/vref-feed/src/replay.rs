@@ -96,19 +96,16 @@ impl Replay {
 
     /// Snapshots measured elsewhere (a rosbag2 file's frames), each at its
     /// own stamp, with no up vector.
-    pub(crate) fn from_snapshots(
-        snapshots: Vec<(u64, Vec<ObjectEntry>)>,
-        fallback_gap_ns: u64,
-    ) -> Self {
+    pub(crate) fn from_snapshots(snapshots: Vec<crate::BagSnapshot>, fallback_gap_ns: u64) -> Self {
         let items = snapshots
             .into_iter()
-            .map(|(ts, entries)| {
+            .map(|s| {
                 (
-                    ts,
+                    s.stamp_ns,
                     Item::Snapshot {
                         feature_dim: vref_perception::FEATURE_DIM,
-                        entries,
-                        up: None,
+                        entries: s.entries,
+                        up: s.up,
                     },
                 )
             })

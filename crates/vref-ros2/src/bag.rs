@@ -25,7 +25,7 @@ use crate::cdr::{CdrError, from_cdr};
 use crate::decode::{self, DecodeError};
 use crate::msg;
 use crate::pairing::Pairer;
-use crate::perceive::Perception;
+use crate::perceive::{Perceived, Perception};
 use vref_perception::ImageLimit;
 
 const IMAGE: &str = "sensor_msgs/msg/Image";
@@ -149,6 +149,8 @@ impl BagTopics {
 pub struct BagFrame {
     pub stamp_ns: u64,
     pub entries: Vec<ObjectEntry>,
+    /// The camera's up vector, where vref's segmenter found the support.
+    pub up: Option<[f32; 3]>,
 }
 
 /// What was read.
@@ -360,11 +362,12 @@ pub fn read_with(
                 intrinsics,
                 frame.labels.as_ref(),
             ) {
-                Ok(entries) => {
+                Ok(Perceived { entries, up }) => {
                     summary.objects += entries.len() as u64;
                     frames.push(BagFrame {
                         stamp_ns: frame.stamp_ns,
                         entries: entries.to_vec(),
+                        up,
                     });
                 }
                 Err(e) => {
@@ -472,7 +475,11 @@ impl vref_feed::BagReader for FeedBags {
             frames: bag
                 .frames
                 .into_iter()
-                .map(|f| (f.stamp_ns, f.entries))
+                .map(|f| vref_feed::BagSnapshot {
+                    stamp_ns: f.stamp_ns,
+                    entries: f.entries,
+                    up: f.up,
+                })
                 .collect(),
             description,
         })

@@ -28,7 +28,7 @@ use crate::markers::{Frames, Scene, headset_pose, markers};
 use crate::matcher_side::MatcherSide;
 use crate::msg::{self, Time};
 use crate::pairing::Pairer;
-use crate::perceive::Perception;
+use crate::perceive::{Perceived, Perception};
 
 /// Longest sleep between turns: bounds the added latency of a frame.
 const TURN: Duration = Duration::from_millis(2);
@@ -240,11 +240,11 @@ impl Camera {
                 intrinsics,
                 frame.labels.as_ref(),
             ) {
-                Ok(entries) => {
+                Ok(Perceived { entries, up }) => {
                     self.publisher.publish(
                         entries.len(),
                         vref_perception::FEATURE_DIM,
-                        None,
+                        up,
                         frame.stamp_ns,
                         |i| entries[i],
                     )?;
@@ -260,7 +260,7 @@ impl Camera {
                             .iter()
                             .map(|e| (e.track_id, e.position.map(f64::from)))
                             .collect(),
-                        up: None,
+                        up,
                     });
                 }
                 Err(e) => counts.skip(frame_key, e.reason(), &vref_logging::with_causes(&e)),

@@ -58,6 +58,17 @@ pub struct Perception {
     entries: Vec<ObjectEntry>,
 }
 
+/// One frame's objects for the wire, and which way is up in its camera
+/// frame: the normal of the supporting plane vref's segmenter found (a
+/// camera that sees a table sees the table's normal, as the rgbd: source
+/// and `vref match` take it); `None` for a frame that came with its own
+/// labels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Perceived<'a> {
+    pub entries: &'a [ObjectEntry],
+    pub up: Option<[f32; 3]>,
+}
+
 impl Perception {
     /// `capacity`: the most objects a snapshot may hold (`[scene]`).
     pub fn new(
@@ -85,7 +96,8 @@ impl Perception {
         depth: &DepthImage,
         intrinsics: Intrinsics,
         labels: Option<&LabelImage>,
-    ) -> Result<&[ObjectEntry], PerceiveError> {
+    ) -> Result<Perceived<'_>, PerceiveError> {
+        let mut up = None;
         let labels = match labels {
             Some(l) => {
                 if l.dimensions() != colour.dimensions() {
@@ -111,10 +123,15 @@ impl Perception {
                     .segmenter
                     .segment(&frame, &mut self.own_labels)
                     .map_err(PerceiveError::Segment)?;
-                if let Segmentation::NoSupport(why) = result {
-                    return Err(PerceiveError::NoObjects {
-                        reason: why.to_string(),
-                    });
+                match result {
+                    Segmentation::NoSupport(why) => {
+                        return Err(PerceiveError::NoObjects {
+                            reason: why.to_string(),
+                        });
+                    }
+                    Segmentation::Objects { plane, .. } => {
+                        up = Some(plane.normal.map(|c| c as f32));
+                    }
                 }
                 &self.own_labels
             }
@@ -162,7 +179,10 @@ impl Perception {
                 ),
             });
         }
-        Ok(&self.entries)
+        Ok(Perceived {
+            entries: &self.entries,
+            up,
+        })
     }
 }
 
@@ -222,5 +242,55 @@ mod tests {
         labels.put_pixel(2, 1, Luma([0]));
         split_labels(&labels, &mut ids, &mut masks);
         assert_eq!((ids.len(), masks.len()), (1, 1));
+    }
+
+    /// A table 0.6 m below a camera looking down at it, with a box 6 cm
+    /// tall on it (its top only: the sides are depth jumps), all grey.
+    fn table_with_a_box(up: [f64; 3]) -> (image::RgbImage, DepthImage, LabelImage) {
+        let (w, h, f) = (640u32, 480u32, 525.0);
+        let mut depth = vref_perception::DepthPixels::new(w, h);
+        let mut labels = LabelImage::new(w, h);
+        for v in 0..h {
+            for u in 0..w {
+                let ray = [(f64::from(u) - 319.5) / f, (f64::from(v) - 239.5) / f, 1.0];
+                let along: f64 = ray.iter().zip(&up).map(|(a, b)| a * b).sum();
+                let on_box = (280..360).contains(&u) && (260..330).contains(&v);
+                let below = if on_box { 0.6 - 0.06 } else { 0.6 };
+                let z = -below / along;
+                depth.put_pixel(u, v, Luma([(z * 1000.0).round() as u16]));
+                if on_box {
+                    labels.put_pixel(u, v, Luma([7]));
+                }
+            }
+        }
+        let colour = image::RgbImage::from_pixel(w, h, image::Rgb([150, 150, 150]));
+        (colour, DepthImage::new(depth, 0.001).unwrap(), labels)
+    }
+
+    /// Where vref segmented the frame, the supporting plane's normal is
+    /// the frame's up vector; a frame with its own labels has none.
+    #[test]
+    fn a_segmented_frame_carries_its_tables_normal_as_up() {
+        let norm = (1.0f64 + 0.64).sqrt();
+        let up = [0.0, -1.0 / norm, -0.8 / norm];
+        let (colour, depth, labels) = table_with_a_box(up);
+        let intrinsics = Intrinsics::new(525.0, 525.0, 319.5, 239.5).unwrap();
+        let mut perception = Perception::new(
+            vref_perception::PerceptionSettings::default().robot(),
+            SegmentationSettings::default(),
+            64,
+        );
+        let found = perception
+            .process(&colour, &depth, intrinsics, None)
+            .unwrap();
+        assert_eq!(found.entries.len(), 1);
+        let got = found.up.unwrap().map(f64::from);
+        let cos: f64 = got.iter().zip(&up).map(|(a, b)| a * b).sum();
+        assert!(cos > 0.9995, "up {got:?} against {up:?}");
+        let given = perception
+            .process(&colour, &depth, intrinsics, Some(&labels))
+            .unwrap();
+        assert_eq!(given.entries.len(), 1);
+        assert_eq!(given.up, None);
     }
 }
