@@ -685,6 +685,9 @@ impl<'a> Costs<'a> {
             robot_xyz: self.robot_xyz.clone(),
             rays,
             typical,
+            // A pair's limit depends on its appearance, the tail and the
+            // gate (both from the constants), not on the noise scales: the
+            // lengths it is compared with are in units of the noise.
             limits: self.limits.clone(),
             limits_for: self.limits_for,
         }
