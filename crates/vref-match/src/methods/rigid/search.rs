@@ -628,7 +628,11 @@ fn greedy(
             }
         }
     }
-    scratch.gains.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    // Every gain is positive, so its bits order as it does: an integer
+    // key sorts the same way, cheaper than `total_cmp`.
+    scratch
+        .gains
+        .sort_unstable_by_key(|e| std::cmp::Reverse(e.0.to_bits()));
     scratch.row_used.clear();
     scratch.row_used.resize(n, false);
     scratch.col_used.clear();
