@@ -5,6 +5,7 @@
 use nalgebra::Point3;
 
 use super::RigidParams;
+use super::log1p::log1p;
 use crate::Problem;
 use crate::RigidMotion;
 
@@ -289,7 +290,7 @@ impl Rays {
     #[inline]
     pub(super) fn robust(&self, q: f64) -> f64 {
         if self.tail > 0.0 {
-            0.5 * self.tail * (2.0 * q / self.tail).ln_1p()
+            0.5 * self.tail * log1p(2.0 * q / self.tail)
         } else {
             q
         }
@@ -1040,7 +1041,7 @@ mod tests {
             let cost = if q >= gate {
                 q - g
             } else {
-                0.5 * tail * (2.0 * q / tail).ln_1p() - g
+                0.5 * tail * super::log1p(2.0 * q / tail) - g
             };
             let may = super::may_take(q, g, tail, gate, loosest);
             assert!(may || cost >= loosest, "q {q} g {g} loosest {loosest}");

@@ -8,6 +8,7 @@
 
 mod coincidence;
 mod costs;
+mod log1p;
 mod motion;
 mod noise;
 mod params;
