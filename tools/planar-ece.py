@@ -22,6 +22,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(__file__))
 from ece import ece  # noqa: E402
+from strip_features import without_features  # noqa: E402
 
 FLAT = 0.15
 
@@ -56,16 +57,6 @@ def flat(pair):
         return False
     least, middle, _ = spreads(points)
     return math.sqrt(max(least, 0.0)) < FLAT * math.sqrt(max(middle, 1e-30))
-
-
-def without_features(source, target):
-    with open(target, "w") as out:
-        for line in open(source):
-            pair = json.loads(line)
-            for side in ("robot", "human"):
-                for o in pair[side]["objects"]:
-                    o.pop("feature", None)
-            out.write(json.dumps(pair) + "\n")
 
 
 def sampling_floor(confidences, draws=200):

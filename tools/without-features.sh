@@ -17,16 +17,7 @@ trap 'rm -rf "$work"' EXIT
 echo "| training file | features | accuracy | precision | ECE | ok answers (wrong) |"
 echo "|---|---|---|---|---|---|"
 for f in moi100 moi101 moi102 mrc100 mrc101 mrc102 moi-ext-train mrc-ext-train; do
-  python3 - "$dir/$f.jsonl" "$work/$f.jsonl" <<'PY'
-import json, sys
-with open(sys.argv[2], "w") as out:
-    for line in open(sys.argv[1]):
-        pair = json.loads(line)
-        for side in ("robot", "human"):
-            for o in pair[side]["objects"]:
-                o.pop("feature", None)
-        out.write(json.dumps(pair) + "\n")
-PY
+  python3 tools/strip_features.py "$dir/$f.jsonl" "$work/$f.jsonl"
   for kind in with without; do
     file=$dir/$f.jsonl
     [ "$kind" = without ] && file=$work/$f.jsonl
