@@ -5,13 +5,19 @@
 # training files only (vref-sim seeds 100-102, lines 1-20 of the external
 # sets).
 #
-#   bash tools/carryover-data.sh && bash tools/without-features.sh
+#   bash tools/carryover-data.sh && bash tools/without-features.sh [ANSWERS_DIR]
+#
+# With ANSWERS_DIR, the answers without features are kept there, one
+# FILE.jsonl per training file (tools/featureless-recalibration.py reads
+# them).
 #
 # Needs `cargo build --release -p vref -p vref-research --bins --examples` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . tools/need-vref.sh
 dir=${VREF_CARRY_DIR:-target/carry}
+keep=${1:-}
+[ -n "$keep" ] && mkdir -p "$keep"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 echo "| training file | features | accuracy | precision | ECE | ok answers (wrong) |"
@@ -28,5 +34,6 @@ d = json.loads(sys.stdin.read())
 ok = [r for r in map(json.loads, open(sys.argv[1])) if r["status"] == "ok"]
 print("| %s | %s | %.3f | %.3f | %.3f | %d (%d) |" % (sys.argv[2], sys.argv[3], d["accuracy"],
       d["precision"], d["ece"], len(ok), sum(not r["correct"] for r in ok)))' "$work/a.jsonl" "$f" "$kind"
+    if [ -n "$keep" ] && [ "$kind" = without ]; then cp "$work/a.jsonl" "$keep/$f.jsonl"; fi
   done
 done
