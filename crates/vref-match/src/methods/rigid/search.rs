@@ -188,7 +188,8 @@ pub(super) fn search(
 
 /// Scores `motion` and keeps it in `top` (the `keep` best distinct motions
 /// so far) if it enters: scored fully only while it can. Its score, or
-/// `None` when it was cut short.
+/// `None` when it was cut short, below any score that would settle the
+/// search.
 fn admit(
     top: &mut Vec<Scored>,
     keep: usize,
@@ -198,11 +199,19 @@ fn admit(
     scratch: &mut Scratch,
     same: impl Fn(&RigidMotion, &RigidMotion) -> bool,
 ) -> Option<f64> {
-    let beat = if top.len() < keep {
+    let mut beat = if top.len() < keep {
         f64::NEG_INFINITY
     } else {
         top.last().map_or(f64::NEG_INFINITY, |(s, _, _)| *s)
     };
+    // A motion naming the pairs of one held enters only in its place, by
+    // beating it (`keep_best`); more than half the hypotheses of a large
+    // scene are such. Cut short below the held one's score, or below
+    // `decisive` where that is less, it changes nothing.
+    if let Some((held, _, _)) = top.iter().find(|(_, held, _)| same(held, &motion)) {
+        let decisive = rp.decisive_share * largest_score(costs.problem.n, costs.problem.m, rp);
+        beat = beat.max(held.min(decisive));
+    }
     let (score, pairs) = greedy(costs, &motion, rp.unmatched_cost, beat, scratch)?;
     keep_best(top, keep, (score, motion, pairs), same);
     Some(score)
