@@ -68,23 +68,25 @@ mod tests {
         a.to_bits().abs_diff(b.to_bits())
     }
 
-    /// Within one unit in the last place of the library's across the
-    /// costs' range, tiny arguments and powers of two included; exact at
+    /// Within two units in the last place of the library's across the
+    /// costs' range, tiny arguments and powers of two included (glibc's is
+    /// itself within one of the truth, and this within one of glibc's;
+    /// two leave room for another library of that quality); exact at
     /// zero; the library's outside the range.
     #[test]
-    fn within_an_ulp_of_the_library() {
+    fn within_two_ulps_of_the_library() {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         for _ in 0..200_000 {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             let x = (state >> 11) as f64 / (1u64 << 53) as f64 * 4.0;
-            assert!(ulps(log1p(x), x.ln_1p()) <= 1, "x {x}");
+            assert!(ulps(log1p(x), x.ln_1p()) <= 2, "x {x}");
         }
         for e in -60..10 {
             for m in [1.0, 1.3, 1.999, std::f64::consts::FRAC_1_SQRT_2, 0.7072] {
                 let x = m * 2f64.powi(e);
-                assert!(ulps(log1p(x), x.ln_1p()) <= 1, "x {x}");
+                assert!(ulps(log1p(x), x.ln_1p()) <= 2, "x {x}");
             }
         }
         assert_eq!(log1p(0.0).to_bits(), 0.0f64.to_bits());
