@@ -20,6 +20,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(__file__))
 from ece import ece  # noqa: E402
+from linear import solve  # noqa: E402
 
 
 def measures(r):
@@ -33,20 +34,6 @@ def measures(r):
 
 
 MAPS = [("refitted", 4), ("with sizes", 6), ("with sizes, settled, significance, fit", 9)]
-
-
-def solve(a, b):
-    """`a x = b` by Gauss-Jordan elimination with partial pivoting."""
-    k = len(b)
-    m = [row[:] + [b[i]] for i, row in enumerate(a)]
-    for col in range(k):
-        pivot = max(range(col, k), key=lambda r: abs(m[r][col]))
-        m[col], m[pivot] = m[pivot], m[col]
-        for r in range(k):
-            if r != col:
-                f = m[r][col] / m[col][col]
-                m[r] = [x - f * y for x, y in zip(m[r], m[col])]
-    return [m[i][k] / m[i][i] for i in range(k)]
 
 
 def fit(xs, ys, k, rounds=40):

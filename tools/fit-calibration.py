@@ -38,6 +38,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ece import ece  # noqa: E402
+from linear import solve  # noqa: E402
+import strip_features  # noqa: E402
 
 EPS = 1e-6
 CAP = 3.0
@@ -58,13 +60,7 @@ def features(row):
 def without_features(path, work):
     """A copy of dataset file `path` with every object's feature removed."""
     out = os.path.join(work, "positions-" + os.path.basename(path))
-    with open(path) as f, open(out, "w") as g:
-        for line in f:
-            pair = json.loads(line)
-            for side in ("robot", "human"):
-                for o in pair[side]["objects"]:
-                    o.pop("feature", None)
-            g.write(json.dumps(pair) + "\n")
+    strip_features.without_features(path, out)
     return out
 
 
@@ -75,20 +71,6 @@ def answers(vref, path, config, work):
                    stderr=subprocess.DEVNULL)
     with open(out) as f:
         return [json.loads(line) for line in f]
-
-
-def solve(a, b):
-    """Solves a x = b (small, dense) by Gaussian elimination."""
-    n = len(b)
-    m = [row[:] + [b[i]] for i, row in enumerate(a)]
-    for c in range(n):
-        p = max(range(c, n), key=lambda r: abs(m[r][c]))
-        m[c], m[p] = m[p], m[c]
-        for r in range(n):
-            if r != c and m[c][c] != 0:
-                f = m[r][c] / m[c][c]
-                m[r] = [x - f * y for x, y in zip(m[r], m[c])]
-    return [m[i][n] / m[i][i] for i in range(n)]
 
 
 def fit(rows, weights, iterations=60):
