@@ -95,7 +95,7 @@ impl Replay {
     }
 
     /// Snapshots measured elsewhere (a rosbag2 file's frames), each at its
-    /// own stamp, with no up vector.
+    /// own stamp, with the up vector its measurement found.
     pub(crate) fn from_snapshots(snapshots: Vec<crate::BagSnapshot>, fallback_gap_ns: u64) -> Self {
         let items = snapshots
             .into_iter()

@@ -19,13 +19,13 @@ use std::path::{Path, PathBuf};
 use vref_config::Config;
 use vref_perception::{DepthImage, Intrinsics, LabelImage};
 use vref_scene::Side;
-use vref_wire::ObjectEntry;
 
 use crate::cdr::{CdrError, from_cdr};
 use crate::decode::{self, DecodeError};
 use crate::msg;
 use crate::pairing::Pairer;
 use crate::perceive::{Perceived, Perception};
+use vref_feed::BagSnapshot;
 use vref_perception::ImageLimit;
 
 const IMAGE: &str = "sensor_msgs/msg/Image";
@@ -144,15 +144,6 @@ impl BagTopics {
     }
 }
 
-/// One measured frame: the colour image's stamp and its objects.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BagFrame {
-    pub stamp_ns: u64,
-    pub entries: Vec<ObjectEntry>,
-    /// The camera's up vector, where vref's segmenter found the support.
-    pub up: Option<[f32; 3]>,
-}
-
 /// What was read.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct BagSummary {
@@ -169,10 +160,12 @@ pub struct BagSummary {
     pub objects: u64,
 }
 
-/// The bag's frames that gave objects, in stamp order, and the counts.
+/// The bag's frames that gave objects, in stamp order (each the colour
+/// image's stamp, its objects and, where vref's segmenter found the
+/// support, the camera's up vector), and the counts.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bag {
-    pub frames: Vec<BagFrame>,
+    pub frames: Vec<BagSnapshot>,
     pub summary: BagSummary,
 }
 
@@ -364,7 +357,7 @@ pub fn read_with(
             ) {
                 Ok(Perceived { entries, up }) => {
                     summary.objects += entries.len() as u64;
-                    frames.push(BagFrame {
+                    frames.push(BagSnapshot {
                         stamp_ns: frame.stamp_ns,
                         entries: entries.to_vec(),
                         up,
@@ -472,15 +465,7 @@ impl vref_feed::BagReader for FeedBags {
             description.push_str(&format!("; {} images unpaired", s.unpaired));
         }
         Ok(vref_feed::MeasuredBag {
-            frames: bag
-                .frames
-                .into_iter()
-                .map(|f| vref_feed::BagSnapshot {
-                    stamp_ns: f.stamp_ns,
-                    entries: f.entries,
-                    up: f.up,
-                })
-                .collect(),
+            frames: bag.frames,
             description,
         })
     }

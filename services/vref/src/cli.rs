@@ -363,7 +363,6 @@ pub struct ConfigCheckArgs {
     pub file: PathBuf,
 }
 
-/// Three comma-separated finite numbers, not all zero.
 fn parse_method(s: &str) -> Result<Method, String> {
     s.parse().map_err(|e: vref_match::MatchError| e.to_string())
 }
