@@ -45,10 +45,7 @@ pub(super) fn search(
     // same hypotheses and gives the same answer.
     let human_order = position_order(hp);
     let robot_rank = ranks(&position_order(rpos));
-    let mut candidates = candidate_columns(costs.log_g, n, m, rp);
-    for row in &mut candidates {
-        row.sort_by_key(|&col| robot_rank[col]);
-    }
+    let candidates = candidate_columns(costs.log_g, n, m, rp, &robot_rank);
     // Distances may disagree by the noise of two positions on each side.
     let tolerance = 3.0 * sigma;
     let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
@@ -263,10 +260,7 @@ pub(super) fn chance_inliers(
     let rpos = &problem.robot_positions;
     let human_order = position_order(hp);
     let robot_rank = ranks(&position_order(rpos));
-    let mut candidates = candidate_columns(costs.log_g, n, m, rp);
-    for row in &mut candidates {
-        row.sort_by_key(|&col| robot_rank[col]);
-    }
+    let candidates = candidate_columns(costs.log_g, n, m, rp, &robot_rank);
     let tolerance = 3.0 * costs.typical;
     let (human_d, robot_d) = (distances(hp), distances(rpos));
     let heights = heights(problem);
@@ -711,11 +705,17 @@ fn fit_pairs(problem: &Problem, pairs: &[(usize, usize)]) -> Option<RigidMotion>
 }
 
 /// For each human object, the robot objects that hypotheses may pair it
-/// with, most similar first: its `k` most similar, and every other whose
-/// appearance likelihood is within [`CANDIDATE_GAP`] of the best in affinity (all
-/// of them when appearance tells nothing, as without features).
-fn candidate_columns(log_g: &[f64], n: usize, m: usize, rp: &RigidParams) -> Vec<Vec<usize>> {
-    let k = rp.candidates;
+/// with, in the order of `robot_rank`: its `k` most similar (the lower
+/// column first among equals), and every other whose appearance
+/// likelihood is within [`CANDIDATE_GAP`] of the best in affinity (all of
+/// them when appearance tells nothing, as without features).
+fn candidate_columns(
+    log_g: &[f64],
+    n: usize,
+    m: usize,
+    rp: &RigidParams,
+    robot_rank: &[usize],
+) -> Vec<Vec<usize>> {
     // The gap is of the likelihood before its floor (the floor keeps a
     // pair's cost bounded; it must not make every object a candidate).
     let floor = rp.appearance_floor;
@@ -724,13 +724,18 @@ fn candidate_columns(log_g: &[f64], n: usize, m: usize, rp: &RigidParams) -> Vec
         .map(|i| {
             let row = &log_g[i * m..(i + 1) * m];
             let mut order: Vec<usize> = (0..m).collect();
-            order.sort_by(|&a, &b| row[b].total_cmp(&row[a]));
-            let keep = order
-                .iter()
-                .enumerate()
-                .take_while(|&(rank, &j)| rank < k || row[j] >= gap)
-                .count();
-            order.truncate(keep.max(1));
+            // Those within the gap lead the row's order of similarity, so
+            // the kept are its first `keep`: selected, not sorted (a search
+            // asks this of every row).
+            let within = row.iter().filter(|&&g| g >= gap).count();
+            let keep = rp.candidates.max(within).clamp(1, m.max(1));
+            if keep < m {
+                order.select_nth_unstable_by(keep - 1, |&a, &b| {
+                    row[b].total_cmp(&row[a]).then(a.cmp(&b))
+                });
+                order.truncate(keep);
+            }
+            order.sort_unstable_by_key(|&col| robot_rank[col]);
             order
         })
         .collect()
@@ -811,13 +816,50 @@ mod tests {
 
     use nalgebra::Point3;
 
-    use super::{COPIES_CUT, CUT_SHORT, Edges, SplitMix, distances, draw_sample};
+    use super::{
+        CANDIDATE_GAP, COPIES_CUT, CUT_SHORT, Edges, SplitMix, candidate_columns, distances,
+        draw_sample,
+    };
 
     fn cloud(rng: &mut SplitMix, k: usize) -> Vec<Point3<f64>> {
         let mut unit = || (rng.next() >> 11) as f64 / (1u64 << 53) as f64;
         (0..k)
             .map(|_| Point3::new(unit(), 0.5 * unit(), 0.2 * unit()))
             .collect()
+    }
+
+    /// The candidates selected are the first of the row sorted by
+    /// similarity, as the definition says: its `k` most similar (the lower
+    /// column first among equals) and every other within the gap, in the
+    /// robot order; on rows with ties, with all or none within the gap.
+    #[test]
+    fn the_candidates_are_the_sorted_rows_first() {
+        let rp = crate::RigidParams::default();
+        let floor = rp.appearance_floor;
+        let gap = ((1.0 - floor) * (-CANDIDATE_GAP / rp.appearance_temperature).exp() + floor).ln();
+        let mut rng = SplitMix(9);
+        for (n, m, levels) in [(5, 3, 2), (7, 9, 3), (12, 40, 5), (9, 64, 1000), (4, 64, 1)] {
+            // Affinities on a few levels about the gap: many ties, rows
+            // with every column within the gap and rows with few.
+            let log_g: Vec<f64> = (0..n * m)
+                .map(|_| gap + 0.3 * (rng.below(levels) as f64 - 0.7 * levels as f64))
+                .collect();
+            let robot_rank: Vec<usize> = (0..m).map(|j| (j * 7 + 3) % m).collect();
+            let got = candidate_columns(&log_g, n, m, &rp, &robot_rank);
+            for (i, kept) in got.iter().enumerate() {
+                let row = &log_g[i * m..(i + 1) * m];
+                let mut order: Vec<usize> = (0..m).collect();
+                order.sort_by(|&a, &b| row[b].total_cmp(&row[a]));
+                let keep = order
+                    .iter()
+                    .enumerate()
+                    .take_while(|&(rank, &j)| rank < rp.candidates || row[j] >= gap)
+                    .count();
+                order.truncate(keep.max(1));
+                order.sort_by_key(|&col| robot_rank[col]);
+                assert_eq!(kept, &order, "row {i} of {n} x {m}");
+            }
+        }
     }
 
     /// Every two pairs of a drawn sample use a human edge longer than the
