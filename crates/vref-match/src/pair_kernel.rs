@@ -33,6 +33,16 @@ impl PairAffinity {
         Self { n, m, pairs, table }
     }
 
+    /// No candidate pairs between `n` human and `m` robot objects.
+    pub fn none(n: usize, m: usize) -> Self {
+        Self {
+            n,
+            m,
+            pairs: Vec::new(),
+            table: Vec::new(),
+        }
+    }
+
     /// Like [`PairAffinity::new`], but copies the kernel values of pairs
     /// that `previous` held and whose objects did not change, instead of
     /// recomputing them. `human_old[i]` is the index human object `i` had

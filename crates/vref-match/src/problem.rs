@@ -95,6 +95,25 @@ impl Problem {
         Ok(problem)
     }
 
+    /// This problem's places with the human objects at
+    /// `human_positions`, and no affinities: a live-tier problem without
+    /// candidate pairs, whose positions, stated errors and up vectors are
+    /// this one's. What a method that reads only places asks of a made-up
+    /// view (`rigid`'s null views, nine a solve), without copying the
+    /// affinities (about a megabyte at 64 objects).
+    pub(crate) fn with_human_places(&self, human_positions: Vec<Point3<f64>>) -> Self {
+        let (n, m) = (self.n, self.m);
+        Self {
+            human_positions,
+            robot_positions: self.robot_positions.clone(),
+            human_sigmas: self.human_sigmas.clone(),
+            robot_sigmas: self.robot_sigmas.clone(),
+            human_up: self.human_up,
+            robot_up: self.robot_up,
+            ..Self::pruned(n, m, vec![0.0; n * m], PairAffinity::none(n, m))
+        }
+    }
+
     /// A live-tier problem from its parts: `appearance` is masked to the
     /// candidate pairs of `spatial`.
     pub fn pruned(n: usize, m: usize, mut appearance: Vec<f64>, spatial: PairAffinity) -> Self {

@@ -62,13 +62,14 @@ pub(super) fn evidence(measures: &Measures, rp: &RigidParams) -> f64 {
 /// of their cloud (the plane a table top or floor spans) shuffled across
 /// objects, each axis on its own, and the third kept: no rigid motion
 /// maps this view onto the robot's beyond chance. The shuffle follows the
-/// objects' order by position, so relabelling a view changes nothing.
+/// objects' order by position, so relabelling a view changes nothing. Its
+/// places alone: `rigid` reads no affinity of a null view.
 pub(super) fn null_view(problem: &Problem, seed: u64) -> Problem {
     let points = &problem.human_positions;
-    let mut null = problem.clone();
+    let mut places = points.clone();
     let k = points.len();
     if k < 2 {
-        return null;
+        return problem.with_human_places(places);
     }
     let centroid = points.iter().fold(Vector3::zeros(), |c, p| c + p.coords) / k as f64;
     let cov = points.iter().fold(nalgebra::Matrix3::zeros(), |acc, p| {
@@ -103,9 +104,9 @@ pub(super) fn null_view(problem: &Problem, seed: u64) -> Problem {
     }
     for (&i, c) in order.iter().zip(&shuffled) {
         let p = centroid + basis[0] * c[0] + basis[1] * c[1] + basis[2] * c[2];
-        null.human_positions[i] = Point3::from(p);
+        places[i] = Point3::from(p);
     }
-    null
+    problem.with_human_places(places)
 }
 
 /// Smallest spread of the chance scores, in nats: a few dozen draws that
