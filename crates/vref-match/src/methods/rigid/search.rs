@@ -652,22 +652,20 @@ fn greedy(
         }
         for (c, j) in [first, second] {
             if c < unmatched && j != usize::MAX {
-                scratch.gains.push((unmatched - c, i, j));
+                scratch.gains.push(gain_key(unmatched - c, i, j));
             }
         }
     }
-    // Every gain is positive, so its bits order as it does: an integer
-    // key sorts the same way, cheaper than `total_cmp`.
-    scratch
-        .gains
-        .sort_unstable_by_key(|e| std::cmp::Reverse(e.0.to_bits()));
+    // Greatest gain first, ties by row and column: one integer sort.
+    scratch.gains.sort_unstable();
     scratch.row_used.clear();
     scratch.row_used.resize(n, false);
     scratch.col_used.clear();
     scratch.col_used.resize(m, false);
     let mut total = 0.0;
     let mut pairs = Vec::with_capacity(n.min(m));
-    for &(gain, i, j) in &scratch.gains {
+    for &key in &scratch.gains {
+        let (gain, i, j) = from_gain_key(key);
         if !scratch.row_used[i] && !scratch.col_used[j] {
             scratch.row_used[i] = true;
             scratch.col_used[j] = true;
@@ -678,11 +676,24 @@ fn greedy(
     Some((total, pairs))
 }
 
+/// A pair's gain with its row `i` and column `j` as one integer that
+/// orders the greatest gain first, ties by row, then column: a gain is
+/// positive, so its bits order as it does; row and column below 2^32.
+fn gain_key(gain: f64, i: usize, j: usize) -> u128 {
+    (u128::from(!gain.to_bits()) << 64) | ((i as u128) << 32) | j as u128
+}
+
+/// The gain, row and column of a [`gain_key`].
+fn from_gain_key(key: u128) -> (f64, usize, usize) {
+    let gain = f64::from_bits(!((key >> 64) as u64));
+    (gain, ((key >> 32) as u32) as usize, (key as u32) as usize)
+}
+
 /// Buffers reused by every [`greedy`] call of one search.
 #[derive(Default)]
 struct Scratch {
     row: RowScratch,
-    gains: Vec<(f64, usize, usize)>,
+    gains: Vec<u128>,
     row_used: Vec<bool>,
     col_used: Vec<bool>,
 }
@@ -818,7 +829,7 @@ mod tests {
 
     use super::{
         CANDIDATE_GAP, COPIES_CUT, CUT_SHORT, Edges, SplitMix, candidate_columns, distances,
-        draw_sample,
+        draw_sample, from_gain_key, gain_key,
     };
 
     fn cloud(rng: &mut SplitMix, k: usize) -> Vec<Point3<f64>> {
@@ -826,6 +837,27 @@ mod tests {
         (0..k)
             .map(|_| Point3::new(unit(), 0.5 * unit(), 0.2 * unit()))
             .collect()
+    }
+
+    /// Gain keys sort as the greedy takes them, greatest gain first, ties
+    /// by row and then column, and give back their gain to the bit.
+    #[test]
+    fn gain_keys_order_the_greatest_gain_first() {
+        let gains = [
+            (4.5, 3, 1),
+            (1e-300, 0, 0),
+            (2.25, 7, 9),
+            (2.25, 7, 2),
+            (2.25, 1, 63),
+            (f64::MIN_POSITIVE / 4.0, 2, 5),
+            (0.1 + 0.2, 5, 5),
+        ];
+        let mut keys: Vec<u128> = gains.iter().map(|&(g, i, j)| gain_key(g, i, j)).collect();
+        keys.sort_unstable();
+        let sorted: Vec<(f64, usize, usize)> = keys.into_iter().map(from_gain_key).collect();
+        let mut expected = gains.to_vec();
+        expected.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        assert_eq!(sorted, expected);
     }
 
     /// The candidates selected are the first of the row sorted by
