@@ -33,13 +33,15 @@ pub fn appearance_affinity(human: &SceneGraph, robot: &SceneGraph) -> Result<Vec
     Ok(a)
 }
 
-fn dot(u: &[f32], v: &[f32]) -> f64 {
+/// The dot product of two features, summed in order in f64 (the engine's
+/// rows sum side by side to these bits: `engine/dots.rs`).
+pub(crate) fn dot(u: &[f32], v: &[f32]) -> f64 {
     u.iter()
         .zip(v)
         .map(|(&a, &b)| f64::from(a) * f64::from(b))
         .sum()
 }
 
-fn norm(u: &[f32]) -> f64 {
+pub(crate) fn norm(u: &[f32]) -> f64 {
     dot(u, u).sqrt()
 }

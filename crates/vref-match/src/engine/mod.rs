@@ -5,6 +5,7 @@
 //! last solution.
 
 mod background;
+mod dots;
 mod resume;
 mod view;
 
@@ -149,18 +150,27 @@ impl Engine {
         let (n, m) = (self.human.len(), self.robot.len());
         let no_features = !(self.human.has_features() && self.robot.has_features());
         let mut appearance = vec![0.0; n * m];
+        let columns = if no_features {
+            None
+        } else {
+            dots::Columns::of(&self.robot.objects)
+        };
+        let mut row = Vec::new();
         for (i, h) in self.human.objects.iter().enumerate() {
+            let kept = |a: usize| human_old[i].is_some() && robot_old[a].is_some();
+            let dots = columns
+                .as_ref()
+                .filter(|_| recompute_all || (0..m).any(|a| !kept(a)))
+                .and_then(|c| c.dots(&h.feature, &mut row));
             for (a, r) in self.robot.objects.iter().enumerate() {
                 appearance[i * m + a] = match (human_old[i], robot_old[a]) {
                     (Some(oi), Some(oa)) if !recompute_all => self.appearance[oi * old_m + oa],
                     _ if no_features || h.norm == 0.0 || r.norm == 0.0 => 1.0,
                     _ => {
-                        let dot: f64 = h
-                            .feature
-                            .iter()
-                            .zip(&r.feature)
-                            .map(|(&u, &v)| f64::from(u) * f64::from(v))
-                            .sum();
+                        let dot = dots.map_or_else(
+                            || crate::appearance::dot(&h.feature, &r.feature),
+                            |d| d[a],
+                        );
                         dot / (h.norm * r.norm)
                     }
                 };

@@ -60,12 +60,7 @@ impl View {
             .objects()
             .iter()
             .map(|o| {
-                let norm = o
-                    .feature
-                    .iter()
-                    .map(|&f| f64::from(f) * f64::from(f))
-                    .sum::<f64>()
-                    .sqrt();
+                let norm = crate::appearance::norm(&o.feature);
                 Tracked {
                     id: o.id,
                     position: [o.position.x, o.position.y, o.position.z],
