@@ -33,6 +33,7 @@
 //! # }
 //! ```
 
+mod depth_noise;
 mod error;
 mod features;
 pub mod folder;
@@ -45,6 +46,7 @@ mod outline;
 pub mod segment;
 mod settings;
 
+pub use depth_noise::{PixelNoise, pixel_noise};
 pub use error::{FrameError, LoadError, SettingsError};
 pub use features::{BoundingBox, COLOUR_DIM, FEATURE_DIM, SHAPE_DIM};
 pub use frame::{DepthImage, DepthPixels, Frame, MAX_DEPTH_M, Mask};
