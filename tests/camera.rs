@@ -219,6 +219,50 @@ fn match_pairs_an_osd_scene_with_itself_and_names_its_labels() {
     );
 }
 
+/// `vref match` measures each camera's depth noise on its own frame: a
+/// real Kinect frame given as both views is segmented alike on both sides
+/// under the default configuration, whose headset is eight times as noisy
+/// as the Kinect; taken from the configuration (`--noise config`), the
+/// person's side is segmented for that headset, and differently.
+#[test]
+fn match_measures_each_cameras_noise_on_its_own_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let frame = dir.path().join("learn20");
+    copy_frame("learn20", &frame);
+    osd_camera(&frame);
+    let defaults = dir.path().join("defaults.toml");
+    std::fs::write(&defaults, "").unwrap();
+    let labels_with = |noise: &str| {
+        let out = dir.path().join(noise);
+        let frame = frame.to_str().unwrap();
+        let run = support::vref_with(
+            &vref_testkit::binary("vref"),
+            &[
+                "match",
+                frame,
+                frame,
+                "--config",
+                defaults.to_str().unwrap(),
+                "--noise",
+                noise,
+                "--labels-out",
+                out.to_str().unwrap(),
+            ],
+            &[("RUST_LOG", "info")],
+            LIMIT,
+        )
+        .ok();
+        let robot = labels(&out.join("robot.png"));
+        (robot, labels(&out.join("human.png")), run.stderr)
+    };
+    let (robot, human, log) = labels_with("frame");
+    assert!(robot.pixels().any(|p| p.0[0] > 0), "no object: {log}");
+    assert!(robot == human, "the same frame segmented otherwise: {log}");
+    assert!(log.contains("depth noise measured"), "{log}");
+    let (robot, human, _) = labels_with("config");
+    assert!(robot != human, "the headset's law changed nothing");
+}
+
 #[test]
 fn import_bop_segment_gives_vrefs_own_objects_with_ground_truth_by_overlap() {
     let dir = tempfile::tempdir().unwrap();

@@ -55,11 +55,12 @@ pub fn vref_at(program: &Path, args: &[&str], limit: Duration) -> Run {
 /// Like [`vref_at`], with environment variables `env` set.
 pub fn vref_with(program: &Path, args: &[&str], env: &[(&str, &str)], limit: Duration) -> Run {
     let config = vref_testkit::repo_root().join("config/vref.toml");
+    // The caller's `env` last: it may set what the defaults clear.
     let mut child = Command::new(program)
-        .envs(env.iter().copied())
         .args(args)
         .env("VREF_CONFIG", &config)
         .env_remove("RUST_LOG")
+        .envs(env.iter().copied())
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -820,11 +820,28 @@ pub struct MatchArgs {
     /// Matching method (default: [matcher] method).
     #[arg(long, value_name = "NAME", value_parser = parse_method)]
     pub method: Option<Method>,
+    /// Each camera's per-reading depth noise: `frame` measures it on the
+    /// frame itself (second differences of neighbouring readings; the
+    /// configured law where a frame has too little depth), `config` takes
+    /// [perception.robot] and [perception.human] `pixel` (the rendered
+    /// BOP cameras by default). It sets the segmenter's thresholds and the
+    /// objects' stated errors; the systematic part is always configured.
+    #[arg(long, value_enum, default_value_t = NoiseSource::Frame)]
+    pub noise: NoiseSource,
     /// Configuration file ([matcher], [matching], [perception],
     /// [segmentation]; default: $VREF_CONFIG, else config/vref.toml if
     /// present, else built-in defaults).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+}
+
+/// Where `vref match` takes each camera's per-reading depth noise from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum NoiseSource {
+    /// Measured on each frame.
+    Frame,
+    /// The configuration's `[perception.*] pixel`.
+    Config,
 }
 
 #[derive(Debug, Args)]

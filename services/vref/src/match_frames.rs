@@ -12,13 +12,13 @@ use vref_logging::exit::{Blame, Failure};
 use vref_match::{Method, OkRule, Params, Problem, Solution, SolveOptions, Verdict, solve_with};
 use vref_perception::folder::RgbdImages;
 use vref_perception::{
-    Detection, Frame, FrontEnd, ImageLimit, LabelImage, LabelMask, Mask, RgbdFrame, Segmentation,
-    Segmenter, label_masks,
+    DepthLaw, Detection, Frame, FrontEnd, LabelImage, LabelMask, Mask, RgbdFrame, Segmentation,
+    Segmenter, label_masks, pixel_noise,
 };
 use vref_scene::{Limits, SceneGraph, SceneObject};
 use vref_viz::{Answer, AnswerPicture, AnswerStatus, ImageObject, ViewImage};
 
-use crate::cli::MatchArgs;
+use crate::cli::{MatchArgs, NoiseSource};
 use crate::stdout;
 
 /// One camera's frame, its labels and what the front end measured.
@@ -54,27 +54,22 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
             .context("[matcher] method")
             .bad_input()?,
     };
-    // Each camera's segmenter is set for its own depth noise.
-    let (segmentation, perception) = (config.segmentation, config.perception);
-    let mut robot_segmenter = Segmenter::new(segmentation.for_camera(perception.robot.pixel));
-    let mut human_segmenter = Segmenter::new(segmentation.for_camera(perception.human.pixel));
-    let mut robot_end = FrontEnd::new(perception.robot());
-    let mut human_end = FrontEnd::new(perception.human());
+    let perception = config.perception;
     let limit = perception.image_limit();
-    let robot = view(
-        &args.robot,
-        "robot",
-        limit,
-        &mut robot_segmenter,
-        &mut robot_end,
-    )?;
-    let human = view(
-        &args.human,
-        "person",
-        limit,
-        &mut human_segmenter,
-        &mut human_end,
-    )?;
+    let cameras = [
+        (&args.robot, "robot", perception.robot()),
+        (&args.human, "person", perception.human()),
+    ];
+    let [robot, human] = cameras.map(|(dir, who, mut settings)| {
+        let images = RgbdImages::load(dir, limit)
+            .with_context(|| format!("the {who}'s frame {}", dir.display()))
+            .bad_input()?;
+        // Each camera's segmenter is set for its own depth noise.
+        settings.noise.pixel = pixel_law(&images, who, args.noise, settings.noise.pixel);
+        let mut segmenter = Segmenter::new(config.segmentation.for_camera(settings.noise.pixel));
+        view(images, dir, &mut segmenter, &mut FrontEnd::new(settings))
+    });
+    let (robot, human) = (robot?, human?);
     let lines = answer(&human, &robot, method, &config)?;
     if let Some(dir) = &args.labels_out {
         std::fs::create_dir_all(dir)
@@ -121,16 +116,42 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
 }
 
 /// Loads, segments (where the folder has no masks) and measures one frame.
+/// The per-reading depth noise law of `who`'s frame: the one it shows
+/// (`--noise frame`), else, or where it shows too little depth to tell,
+/// the configured one.
+fn pixel_law(images: &RgbdImages, who: &str, noise: NoiseSource, configured: DepthLaw) -> DepthLaw {
+    if noise == NoiseSource::Config {
+        return configured;
+    }
+    match pixel_noise(&images.depth) {
+        Some(measured) => {
+            tracing::info!(
+                camera = who,
+                c = measured.c,
+                samples = measured.samples,
+                "depth noise measured: sigma = c z^2"
+            );
+            DepthLaw {
+                a: 0.0,
+                b: 0.0,
+                c: measured.c,
+            }
+        }
+        None => {
+            tracing::warn!(
+                "the {who}'s frame has too little depth to measure its noise: the configured law is used"
+            );
+            configured
+        }
+    }
+}
+
 fn view(
+    images: RgbdImages,
     dir: &Path,
-    who: &str,
-    limit: ImageLimit,
     segmenter: &mut Segmenter,
     front_end: &mut FrontEnd,
 ) -> Result<View, Failure> {
-    let images = RgbdImages::load(dir, limit)
-        .with_context(|| format!("the {who}'s frame {}", dir.display()))
-        .bad_input()?;
     let mut up = None;
     let labels = match &images.masks {
         Some(masks) => masks.clone(),
