@@ -119,11 +119,8 @@ impl BopWorld {
                 );
             }
             for scene in &import.scenes {
-                if world_up.is_some() && scene.lacks_up() {
-                    tracing::warn!(
-                        "BOP scene {}: a camera has no pose (cam_R_w2c), so its snapshots carry no up vector",
-                        scene.name
-                    );
+                if let Some(warning) = scene.missing_up().filter(|_| world_up.is_some()) {
+                    tracing::warn!("BOP {warning}");
                 }
                 let Some(scene_dir) = dataset
                     .scenes()

@@ -203,4 +203,21 @@ fn with_the_worlds_up_each_view_carries_its_cameras_up_vector() {
     }
     // The objects are measured as without it.
     assert_eq!(plain.robot.detections, measured.robot.detections);
+    assert_eq!(measured.missing_up(), None);
+    // Without cam_R_w2c a view has no up vector, and the warning says why
+    // and names the scene.
+    let path = dataset.join("test/000000/scene_camera.json");
+    let mut json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+    for camera in json.as_object_mut().unwrap().values_mut() {
+        camera.as_object_mut().unwrap().remove("cam_R_w2c");
+    }
+    fs::write(&path, json.to_string()).unwrap();
+    let data = BopDataset::open(&dataset, "test").unwrap();
+    let poseless = BopScene::measure(&data, &data.scenes()[0], &upright).unwrap();
+    let warning = poseless.missing_up().unwrap();
+    assert!(
+        warning.contains(&poseless.name) && warning.contains("cam_R_w2c"),
+        "{warning}"
+    );
 }

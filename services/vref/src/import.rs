@@ -58,11 +58,8 @@ pub fn bop(args: &BopArgs) -> Result<(), Failure> {
         tracing::warn!("scene {scene}: one view has 0 objects: {reason}");
     }
     if args.world_up.is_some() {
-        for scene in import.scenes.iter().filter(|s| s.lacks_up()) {
-            tracing::warn!(
-                "scene {}: a camera has no pose (cam_R_w2c): a view without an up vector",
-                scene.name
-            );
+        for warning in import.scenes.iter().filter_map(|s| s.missing_up()) {
+            tracing::warn!("{warning}");
         }
     }
     let skipped = import.skipped();

@@ -261,6 +261,17 @@ impl BopScene {
         self.robot.up.is_none() || self.human.up.is_none()
     }
 
+    /// What to warn of where the world's up was given and a view still
+    /// lacks one ([`BopScene::lacks_up`]); `None` where both carry one.
+    pub fn missing_up(&self) -> Option<String> {
+        self.lacks_up().then(|| {
+            format!(
+                "scene {}: a camera has no pose (cam_R_w2c), so a view carries no up vector",
+                self.name
+            )
+        })
+    }
+
     /// Loads and measures both views of `scene`.
     pub fn measure(
         dataset: &BopDataset,
