@@ -788,6 +788,12 @@ pub struct SegmentArgs {
     /// Print one JSON object per frame (scene, objects, no_support, out).
     #[arg(long)]
     pub json: bool,
+    /// The thresholds: `frame` scales [segmentation] (set for a Kinect)
+    /// for the depth noise each frame shows, measured on it (a noisier
+    /// camera's thresholds grow with the root of its noise; a quieter
+    /// one's stay); `config` takes [segmentation] as it is.
+    #[arg(long, value_enum, default_value_t = NoiseSource::Frame)]
+    pub noise: NoiseSource,
     /// Configuration file (its [segmentation] section; default:
     /// $VREF_CONFIG, else config/vref.toml if present, else built-in
     /// defaults).
@@ -835,12 +841,13 @@ pub struct MatchArgs {
     pub config: Option<PathBuf>,
 }
 
-/// Where `vref match` takes each camera's per-reading depth noise from.
+/// Where `vref match` and `vref segment` take a camera's per-reading
+/// depth noise from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum NoiseSource {
     /// Measured on each frame.
     Frame,
-    /// The configuration's `[perception.*] pixel`.
+    /// The configuration's.
     Config,
 }
 

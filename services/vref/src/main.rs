@@ -22,6 +22,7 @@ mod harness;
 mod import;
 mod inject;
 mod match_frames;
+mod noise;
 mod progress;
 mod query;
 mod record;

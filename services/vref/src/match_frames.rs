@@ -12,8 +12,8 @@ use vref_logging::exit::{Blame, Failure};
 use vref_match::{Method, OkRule, Params, Problem, Solution, SolveOptions, Verdict, solve_with};
 use vref_perception::folder::RgbdImages;
 use vref_perception::{
-    DepthLaw, Detection, Frame, FrontEnd, LabelImage, LabelMask, Mask, RgbdFrame, Segmentation,
-    Segmenter, label_masks, pixel_noise,
+    Detection, Frame, FrontEnd, LabelImage, LabelMask, Mask, RgbdFrame, Segmentation, Segmenter,
+    label_masks,
 };
 use vref_scene::{Limits, SceneGraph, SceneObject};
 use vref_viz::{Answer, AnswerPicture, AnswerStatus, ImageObject, ViewImage};
@@ -65,7 +65,10 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
             .with_context(|| format!("the {who}'s frame {}", dir.display()))
             .bad_input()?;
         // Each camera's segmenter is set for its own depth noise.
-        settings.noise.pixel = pixel_law(&images, who, args.noise, settings.noise.pixel);
+        if args.noise == NoiseSource::Frame {
+            let configured = settings.noise.pixel;
+            settings.noise.pixel = crate::noise::measured_law(&images, who).unwrap_or(configured);
+        }
         let mut segmenter = Segmenter::new(config.segmentation.for_camera(settings.noise.pixel));
         view(images, dir, &mut segmenter, &mut FrontEnd::new(settings))
     });
@@ -116,36 +119,6 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
 }
 
 /// Loads, segments (where the folder has no masks) and measures one frame.
-/// The per-reading depth noise law of `who`'s frame: the one it shows
-/// (`--noise frame`), else, or where it shows too little depth to tell,
-/// the configured one.
-fn pixel_law(images: &RgbdImages, who: &str, noise: NoiseSource, configured: DepthLaw) -> DepthLaw {
-    if noise == NoiseSource::Config {
-        return configured;
-    }
-    match pixel_noise(&images.depth) {
-        Some(measured) => {
-            tracing::info!(
-                camera = who,
-                c = measured.c,
-                samples = measured.samples,
-                "depth noise measured: sigma = c z^2"
-            );
-            DepthLaw {
-                a: 0.0,
-                b: 0.0,
-                c: measured.c,
-            }
-        }
-        None => {
-            tracing::warn!(
-                "the {who}'s frame has too little depth to measure its noise: the configured law is used"
-            );
-            configured
-        }
-    }
-}
-
 fn view(
     images: RgbdImages,
     dir: &Path,

@@ -12,7 +12,7 @@ use vref_perception::folder::{
 };
 use vref_perception::{LabelImage, RgbdFrame, Segmentation, Segmenter, segment::overlay};
 
-use crate::cli::SegmentArgs;
+use crate::cli::{NoiseSource, SegmentArgs};
 use crate::stdout;
 
 #[derive(Debug, serde::Serialize)]
@@ -26,7 +26,6 @@ struct FrameLine<'a> {
 pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
     let (config, source) = Config::load(args.config.as_deref()).bad_input()?;
     tracing::info!(?source, "configuration");
-    let mut segmenter = Segmenter::new(config.segmentation);
     let mut labels = LabelImage::new(1, 1);
     let jobs: Vec<(String, PathBuf, PathBuf, PathBuf, Option<PathBuf>)> = match &args.dir {
         Some(dir) => {
@@ -72,6 +71,16 @@ pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
         let images =
             RgbdImages::load_files(&rgb, &depth, None, camera, config.perception.image_limit())
                 .bad_input()?;
+        // The thresholds for the camera's noise as the frame shows it
+        // (`[segmentation]` is set for a Kinect's).
+        let settings = match args.noise {
+            NoiseSource::Frame => crate::noise::measured_law(&images, &name)
+                .map_or(config.segmentation, |law| {
+                    config.segmentation.for_camera(law)
+                }),
+            NoiseSource::Config => config.segmentation,
+        };
+        let mut segmenter = Segmenter::new(settings);
         let frame = RgbdFrame {
             colour: &images.colour,
             depth: &images.depth,

@@ -201,6 +201,65 @@ fn a_folder_of_scenes_gives_a_label_png_and_an_overlay_each() {
     assert!(summary["overlap_f"].as_f64().unwrap() > 0.9, "{summary}");
 }
 
+/// A noisy camera's frame (the rendered headset of BOP table scene
+/// 000001, eight times a Kinect's noise) is segmented for the noise it
+/// shows: about its objects, where `[segmentation]` as it is (`--noise
+/// config`, set for a Kinect) cuts it into fragments.
+#[test]
+fn segment_sets_its_thresholds_for_the_noise_a_frame_shows() {
+    let scene = vref_testkit::data("bop/table/test/000001");
+    assert!(
+        scene.is_dir(),
+        "the BOP data set is missing: {}",
+        scene.display()
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let cameras: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scene.join("scene_camera.json")).unwrap())
+            .unwrap();
+    let k = &cameras["1"]["cam_K"];
+    let camera = serde_json::json!({
+        "fx": k[0], "fy": k[4], "cx": k[2], "cy": k[5],
+        "depth_scale_mm": cameras["1"]["depth_scale"].as_f64().unwrap_or(1.0),
+    });
+    let camera_file = dir.path().join("camera.json");
+    std::fs::write(&camera_file, camera.to_string()).unwrap();
+    let instances: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scene.join("scene_gt.json")).unwrap())
+            .unwrap();
+    let instances = instances["1"].as_array().unwrap().len() as u64;
+    let segments = |noise: &str| {
+        let out = dir.path().join(format!("{noise}.png"));
+        let run = vref(&[
+            "segment",
+            "--rgb",
+            scene.join("rgb/000001.jpg").to_str().unwrap(),
+            "--depth",
+            scene.join("depth/000001.png").to_str().unwrap(),
+            "--camera",
+            camera_file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--noise",
+            noise,
+            "--json",
+        ]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        let line: serde_json::Value =
+            serde_json::from_str(String::from_utf8_lossy(&run.stdout).trim()).unwrap();
+        line["objects"].as_u64().unwrap()
+    };
+    let (measured, kinect) = (segments("frame"), segments("config"));
+    assert!(
+        (1..=instances + 3).contains(&measured),
+        "{measured} segments for {instances} instances"
+    );
+    assert!(
+        kinect > 2 * instances,
+        "{kinect} segments for {instances} instances"
+    );
+}
+
 /// `[perception] max_image_pixels` in a configuration file: checked by
 /// `vref config check`, and lowered, it refuses an ordinary frame in
 /// `vref segment` and `vref match`, naming the file, its size and the key.
