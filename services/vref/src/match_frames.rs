@@ -118,7 +118,7 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
     stdout::print(&text)
 }
 
-/// Loads, segments (where the folder has no masks) and measures one frame.
+/// Segments (where the folder has no masks) and measures one loaded frame.
 fn view(
     images: RgbdImages,
     dir: &Path,
