@@ -150,7 +150,12 @@ impl Engine {
         let (n, m) = (self.human.len(), self.robot.len());
         let no_features = !(self.human.has_features() && self.robot.has_features());
         let mut appearance = vec![0.0; n * m];
-        let columns = if no_features {
+        // The robot features by dimension only where some pair is new: an
+        // update that moved nothing copies every entry.
+        let any_new = recompute_all
+            || human_old.iter().any(Option::is_none)
+            || robot_old.iter().any(Option::is_none);
+        let columns = if no_features || !any_new {
             None
         } else {
             dots::Columns::of(&self.robot.objects)

@@ -727,10 +727,7 @@ fn candidate_columns(
     rp: &RigidParams,
     robot_rank: &[usize],
 ) -> Vec<Vec<usize>> {
-    // The gap is of the likelihood before its floor (the floor keeps a
-    // pair's cost bounded; it must not make every object a candidate).
-    let floor = rp.appearance_floor;
-    let gap = ((1.0 - floor) * (-CANDIDATE_GAP / rp.appearance_temperature).exp() + floor).ln();
+    let gap = candidate_gap(rp);
     (0..n)
         .map(|i| {
             let row = &log_g[i * m..(i + 1) * m];
@@ -750,6 +747,14 @@ fn candidate_columns(
             order
         })
         .collect()
+}
+
+/// The log likelihood [`CANDIDATE_GAP`] below a row's best stands at:
+/// the gap is of the likelihood before its floor (the floor keeps a
+/// pair's cost bounded; it must not make every object a candidate).
+fn candidate_gap(rp: &RigidParams) -> f64 {
+    let floor = rp.appearance_floor;
+    ((1.0 - floor) * (-CANDIDATE_GAP / rp.appearance_temperature).exp() + floor).ln()
 }
 
 /// Row-major distances between every two of `points`.
@@ -828,7 +833,7 @@ mod tests {
     use nalgebra::Point3;
 
     use super::{
-        CANDIDATE_GAP, COPIES_CUT, CUT_SHORT, Edges, SplitMix, candidate_columns, distances,
+        COPIES_CUT, CUT_SHORT, Edges, SplitMix, candidate_columns, candidate_gap, distances,
         draw_sample, from_gain_key, gain_key,
     };
 
@@ -867,8 +872,7 @@ mod tests {
     #[test]
     fn the_candidates_are_the_sorted_rows_first() {
         let rp = crate::RigidParams::default();
-        let floor = rp.appearance_floor;
-        let gap = ((1.0 - floor) * (-CANDIDATE_GAP / rp.appearance_temperature).exp() + floor).ln();
+        let gap = candidate_gap(&rp);
         let mut rng = SplitMix(9);
         for (n, m, levels) in [(5, 3, 2), (7, 9, 3), (12, 40, 5), (9, 64, 1000), (4, 64, 1)] {
             // Affinities on a few levels about the gap: many ties, rows
