@@ -4,6 +4,7 @@
 //! section the same way.
 
 use serde::{Deserialize, Serialize};
+use vref_perception::NoiseSource;
 
 /// Environment variable ROS 2 uses for the DDS domain; it overrides
 /// `domain_id` as it does for every ROS 2 node on the machine.
@@ -34,6 +35,11 @@ pub struct Ros2Settings {
     /// Colour, depth and labels whose header stamps differ by at most this
     /// make one frame (milliseconds).
     pub stamp_tolerance_ms: f64,
+    /// Each camera's per-reading depth noise (the segmenter's thresholds,
+    /// the objects' stated errors): `frame` measured on the camera's first
+    /// frame that shows enough depth and kept, `config` the configured
+    /// `[perception]` law.
+    pub depth_noise: NoiseSource,
     /// The headset's camera, the same way (empty: off; the headset's view
     /// then comes through vref-bridge or a feed).
     pub headset_colour_topic: String,
@@ -85,6 +91,7 @@ impl Default for Ros2Settings {
             pointing_cone_deg: 5.0,
             pointing_confidence: 1.0,
             stamp_tolerance_ms: 20.0,
+            depth_noise: NoiseSource::Frame,
             robot_frame_id: "camera_color_optical_frame".to_owned(),
             headset_frame_id: "headset_camera".to_owned(),
             markers_topic: "/vref/markers".to_owned(),

@@ -2,6 +2,8 @@ use std::path::PathBuf;
 use std::str::FromStr;
 use std::time::Duration;
 
+use vref_perception::NoiseSource;
+
 use crate::SetupError;
 
 /// The command line both feeds share.
@@ -53,6 +55,16 @@ pub struct FeedArgs {
     /// z). Default: none.
     #[arg(long, value_name = "X,Y,Z", value_parser = vref_measure::parse_direction)]
     pub world_up: Option<[f64; 3]>,
+    /// RGB-D and rosbag sources: each camera's per-reading depth noise,
+    /// which sets the segmenter's thresholds and the objects' stated
+    /// errors: `frame` measures it on each frame (rgbd:) or on the
+    /// camera's first frames (rosbag:, as vref-ros2), the configured law
+    /// where a frame shows too little depth; `config` takes
+    /// [perception.robot] or [perception.human] `pixel` (the rendered BOP
+    /// cameras by default). Default: frame for rgbd:, [ros2] depth_noise
+    /// for rosbag:.
+    #[arg(long, value_name = "frame|config")]
+    pub noise: Option<NoiseSource>,
     /// The former spelling of --hold, in seconds.
     #[arg(
         long,
@@ -77,6 +89,7 @@ impl FeedArgs {
             hold: Duration::from_secs(5),
             hold_s: None,
             world_up: None,
+            noise: None,
         }
     }
 

@@ -163,8 +163,14 @@ impl Feed {
             }
             SourceSpec::Rgbd(path) => {
                 let hold_s = positive(args.hold_flag(), args.hold_seconds())?;
-                let (views, summary) =
-                    crate::rgbd::load_views(path, side, config.perception, config.segmentation)?;
+                let noise = args.noise.unwrap_or_default();
+                let (views, summary) = crate::rgbd::load_views(
+                    path,
+                    side,
+                    config.perception,
+                    config.segmentation,
+                    noise,
+                )?;
                 let description = format!(
                     "RGB-D frames {} ({} frames, {} with their own masks, {} without a supporting plane, {} objects; {hold_s} s each)",
                     path.display(),
@@ -178,12 +184,17 @@ impl Feed {
             }
             SourceSpec::Rosbag(path) => {
                 let reader = bags.ok_or_else(|| SetupError::NoBagReader { path: path.clone() })?;
-                let bag = reader
-                    .read(path, side, config)
-                    .map_err(|source| SetupError::Rosbag {
-                        path: path.clone(),
-                        source,
-                    })?;
+                let mut config = config.clone();
+                if let Some(noise) = args.noise {
+                    config.ros2.depth_noise = noise;
+                }
+                let bag =
+                    reader
+                        .read(path, side, &config)
+                        .map_err(|source| SetupError::Rosbag {
+                            path: path.clone(),
+                            source,
+                        })?;
                 let gap_ns = (1e9 / rate_hz).round() as u64;
                 let replay = Replay::from_snapshots(bag.frames, gap_ns);
                 let description = format!(

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use vref_perception::folder::{RgbdImages, frame_dirs};
 use vref_perception::{
-    Frame, FrontEnd, LabelImage, Mask, PerceptionSettings, RgbdFrame, Segmentation,
+    Frame, FrontEnd, LabelImage, Mask, NoiseSource, PerceptionSettings, RgbdFrame, Segmentation,
     SegmentationSettings, Segmenter, label_masks,
 };
 use vref_scene::Side;
@@ -42,23 +42,27 @@ pub(crate) fn load_views(
     side: Side,
     perception: PerceptionSettings,
     segmentation: SegmentationSettings,
+    noise: NoiseSource,
 ) -> Result<(Vec<View>, RgbdSummary), SetupError> {
     let folder = |source| SetupError::Rgbd {
         path: dir.to_owned(),
         source,
     };
     let frames = frame_dirs(dir).map_err(folder)?;
-    let (settings, noise) = match side {
-        Side::Robot => (perception.robot(), perception.robot),
-        Side::Human => (perception.human(), perception.human),
+    let configured = match side {
+        Side::Robot => perception.robot(),
+        Side::Human => perception.human(),
     };
-    let mut front_end = FrontEnd::new(settings);
-    let mut segmenter = Segmenter::new(segmentation.for_camera(noise.pixel));
     let mut summary = RgbdSummary::default();
     let mut views = Vec::with_capacity(frames.len());
     let mut detections = Vec::new();
     for (k, (name, path)) in frames.iter().enumerate() {
         let images = RgbdImages::load(path, perception.image_limit()).map_err(folder)?;
+        // Each frame's segmenter and stated errors are set for the noise
+        // its camera shows (or is configured with).
+        let mut settings = configured;
+        settings.noise.pixel = crate::frame_law(noise, &images.depth, configured.noise.pixel, name);
+        let mut front_end = FrontEnd::new(settings);
         let mut up = None;
         let labels = match images.masks {
             Some(ref masks) => {
@@ -67,6 +71,7 @@ pub(crate) fn load_views(
             }
             None => {
                 let mut labels = LabelImage::new(1, 1);
+                let mut segmenter = Segmenter::new(segmentation.for_camera(settings.noise.pixel));
                 let frame = RgbdFrame {
                     colour: &images.colour,
                     depth: &images.depth,

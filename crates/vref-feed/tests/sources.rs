@@ -469,3 +469,73 @@ fn recording_problems_are_refused_before_anything_is_published() {
     let e = prepare(Role::Perception, &args(SourceSpec::Recording(wide))).unwrap_err();
     assert!(matches!(e, SetupError::Entry { .. }), "{e}");
 }
+
+/// One real Kinect frame (OSD learn20) as a folder of one frame, with
+/// its camera.
+fn osd_frame(dir: &Path) -> PathBuf {
+    let scene = vref_testkit::data("osd/learn/learn20");
+    assert!(
+        scene.is_dir(),
+        "the OSD data set is missing: {}",
+        scene.display()
+    );
+    let frame = dir.join("learn20");
+    std::fs::create_dir_all(&frame).unwrap();
+    for file in ["rgb.png", "depth.png"] {
+        std::fs::copy(scene.join(file), frame.join(file)).unwrap();
+    }
+    std::fs::copy(
+        vref_testkit::data("osd/camera.json"),
+        dir.join("camera.json"),
+    )
+    .unwrap();
+    dir.to_owned()
+}
+
+/// The objects the first snapshot of `role`'s feed on `dir` holds.
+fn first_objects(
+    role: Role,
+    dir: &Path,
+    noise: Option<vref_perception::NoiseSource>,
+) -> Vec<ObjectEntry> {
+    let mut args = args(SourceSpec::Rgbd(dir.to_owned()));
+    args.noise = noise;
+    let mut feed = prepare(role, &args).unwrap();
+    match feed.next(NOW).unwrap().publication {
+        Publication::Snapshot { entries, .. } => entries.to_vec(),
+        Publication::Gesture { .. } => panic!("an rgbd: feed points"),
+    }
+}
+
+/// Each feed measures the depth noise its frames show (`--noise frame`,
+/// the default): one Kinect frame given to both feeds is segmented alike,
+/// although the headset is configured eight times noisier. With the
+/// configured laws (`--noise config`) the two differ.
+#[test]
+fn an_rgbd_feed_segments_for_the_noise_its_frames_show() {
+    use vref_perception::NoiseSource;
+    let dir = tempfile::tempdir().unwrap();
+    let frames = osd_frame(dir.path());
+    let ids = |entries: &[ObjectEntry]| entries.iter().map(|e| e.track_id).collect::<Vec<_>>();
+    let robot = first_objects(Role::Perception, &frames, None);
+    let human = first_objects(Role::Gesture, &frames, None);
+    assert!(!robot.is_empty());
+    assert_eq!(ids(&robot), ids(&human));
+    for (r, h) in robot.iter().zip(&human) {
+        assert_eq!(r.position, h.position, "object {}", r.track_id);
+    }
+    let configured = first_objects(Role::Gesture, &frames, Some(NoiseSource::Config));
+    assert_ne!(
+        ids(&configured),
+        ids(&robot),
+        "the headset's law changed nothing"
+    );
+    assert_eq!(
+        ids(&first_objects(
+            Role::Perception,
+            &frames,
+            Some(NoiseSource::Frame)
+        )),
+        ids(&robot)
+    );
+}

@@ -2,7 +2,9 @@
 //! itself: for a camera that states none, or whose statement is another
 //! camera's (the configured headset's, for two photos of one's own).
 
-use crate::DepthImage;
+use serde::{Deserialize, Serialize};
+
+use crate::{DepthImage, DepthLaw};
 
 /// Neighbouring readings further apart than this share of their depth lie
 /// on two surfaces (an outline), not one noisy one.
@@ -74,12 +76,99 @@ pub fn pixel_noise(depth: &DepthImage) -> Option<PixelNoise> {
     })
 }
 
+/// Where a camera's per-reading depth noise is taken from, for the
+/// segmenter's thresholds and the objects' stated errors, wherever vref
+/// measures frames of a camera the configuration may not describe (`vref
+/// match`, `vref segment`, the feeds' `rgbd:` and `rosbag:` sources,
+/// vref-ros2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NoiseSource {
+    /// Measured on the camera's frame ([`pixel_noise`]); the configured
+    /// law where the frame shows too little depth.
+    #[default]
+    Frame,
+    /// The configured law (`[perception.robot]` or `[perception.human]`
+    /// `pixel`).
+    Config,
+}
+
+impl NoiseSource {
+    pub const NAMES: [&'static str; 2] = ["frame", "config"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            NoiseSource::Frame => "frame",
+            NoiseSource::Config => "config",
+        }
+    }
+}
+
+impl std::fmt::Display for NoiseSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A noise source that is neither `frame` nor `config`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0:?} is not a noise source (frame or config)")]
+pub struct UnknownNoiseSource(pub String);
+
+impl std::str::FromStr for NoiseSource {
+    type Err = UnknownNoiseSource;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "frame" => Ok(NoiseSource::Frame),
+            "config" => Ok(NoiseSource::Config),
+            _ => Err(UnknownNoiseSource(s.to_owned())),
+        }
+    }
+}
+
+/// The per-reading law one frame is measured with, and where it came
+/// from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FrameLaw {
+    /// Configured (`NoiseSource::Config`).
+    Configured(DepthLaw),
+    /// Measured on the frame: `sigma = c z^2`.
+    Measured(PixelNoise),
+    /// Asked to measure, but the frame shows too little depth: the
+    /// configured law.
+    Unmeasured(DepthLaw),
+}
+
+impl FrameLaw {
+    /// The law for `depth` of a camera configured with `configured`.
+    pub fn of(source: NoiseSource, depth: &DepthImage, configured: DepthLaw) -> Self {
+        match source {
+            NoiseSource::Config => FrameLaw::Configured(configured),
+            NoiseSource::Frame => {
+                pixel_noise(depth).map_or(FrameLaw::Unmeasured(configured), FrameLaw::Measured)
+            }
+        }
+    }
+
+    pub fn law(&self) -> DepthLaw {
+        match *self {
+            FrameLaw::Configured(law) | FrameLaw::Unmeasured(law) => law,
+            FrameLaw::Measured(m) => DepthLaw {
+                a: 0.0,
+                b: 0.0,
+                c: m.c,
+            },
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-    use super::pixel_noise;
-    use crate::{DepthImage, DepthPixels};
+    use super::{FrameLaw, NoiseSource, pixel_noise};
+    use crate::{DepthImage, DepthLaw, DepthPixels};
 
     /// Metres per depth unit: fine enough that rounding adds nothing.
     const UNIT: f64 = 0.0001;
@@ -155,5 +244,34 @@ mod tests {
             image::Luma([if x < 20 && y < 20 { 10_000 } else { 0 }])
         });
         assert_eq!(pixel_noise(&DepthImage::new(speck, UNIT).unwrap()), None);
+    }
+
+    /// `frame` measures, `config` keeps the configured law, and a frame
+    /// without depth falls back to it; the names read back.
+    #[test]
+    fn a_frames_law_is_measured_or_configured() {
+        let configured = DepthLaw {
+            a: 0.001,
+            b: 0.0,
+            c: 0.02,
+        };
+        let noisy = frame(0.0025, |_, _, z| z);
+        let measured = FrameLaw::of(NoiseSource::Frame, &noisy, configured);
+        assert!(matches!(measured, FrameLaw::Measured(_)), "{measured:?}");
+        let law = measured.law();
+        assert!(
+            (law.c / 0.0025 - 1.0).abs() < 0.05 && law.a == 0.0,
+            "{law:?}"
+        );
+        let kept = FrameLaw::of(NoiseSource::Config, &noisy, configured);
+        assert_eq!(kept, FrameLaw::Configured(configured));
+        let empty = DepthImage::new(DepthPixels::new(320, 240), UNIT).unwrap();
+        let fallback = FrameLaw::of(NoiseSource::Frame, &empty, configured);
+        assert_eq!(fallback, FrameLaw::Unmeasured(configured));
+        assert_eq!(fallback.law(), configured);
+        for name in NoiseSource::NAMES {
+            assert_eq!(name.parse::<NoiseSource>().unwrap().name(), name);
+        }
+        assert!("kinect".parse::<NoiseSource>().is_err());
     }
 }

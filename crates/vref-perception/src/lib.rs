@@ -46,7 +46,7 @@ mod outline;
 pub mod segment;
 mod settings;
 
-pub use depth_noise::{PixelNoise, pixel_noise};
+pub use depth_noise::{FrameLaw, NoiseSource, PixelNoise, UnknownNoiseSource, pixel_noise};
 pub use error::{FrameError, LoadError, SettingsError};
 pub use features::{BoundingBox, COLOUR_DIM, FEATURE_DIM, SHAPE_DIM};
 pub use frame::{DepthImage, DepthPixels, Frame, MAX_DEPTH_M, Mask};

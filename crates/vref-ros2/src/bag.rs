@@ -178,7 +178,12 @@ pub fn read_bag(path: &Path, side: Side, config: &Config) -> Result<Bag, BagErro
         Side::Robot => config.perception.robot(),
         Side::Human => config.perception.human(),
     };
-    let mut perception = Perception::new(front_end, config.segmentation, config.scene.capacity);
+    let mut perception = Perception::new(
+        front_end,
+        config.segmentation,
+        s.depth_noise,
+        config.scene.capacity,
+    );
     let settings = BagSettings {
         topics: BagTopics::of(s, side),
         max: config.perception.image_limit(),
@@ -517,6 +522,7 @@ mod tests {
         let mut perception = Perception::new(
             config.perception.robot(),
             config.segmentation,
+            config.ros2.depth_noise,
             config.scene.capacity,
         );
         read_with(path, &settings, &mut perception)

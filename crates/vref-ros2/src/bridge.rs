@@ -438,7 +438,12 @@ pub fn run(config: &Config) -> Result<Counts, Ros2Error> {
             depth,
             labels,
             info,
-            perception: Perception::new(front_end, config.segmentation, config.scene.capacity),
+            perception: Perception::new(
+                front_end,
+                config.segmentation,
+                config.ros2.depth_noise,
+                config.scene.capacity,
+            ),
             model: None,
             last_info_ns: None,
             publisher: SnapshotPublisher::new(&node, ipc, side, frame_id)?,

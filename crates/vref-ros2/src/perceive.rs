@@ -5,8 +5,9 @@
 use image::GrayImage;
 use vref_feed::EntryError;
 use vref_perception::{
-    DepthImage, Detection, FrameError, FrontEnd, FrontEndSettings, Intrinsics, LabelImage, Mask,
-    RgbdFrame, SegmentError, Segmentation, SegmentationSettings, Segmenter,
+    DepthImage, Detection, FrameError, FrameLaw, FrontEnd, FrontEndSettings, Intrinsics,
+    LabelImage, Mask, NoiseSource, RgbdFrame, SegmentError, Segmentation, SegmentationSettings,
+    Segmenter,
 };
 use vref_wire::ObjectEntry;
 
@@ -50,6 +51,12 @@ impl PerceiveError {
 pub struct Perception {
     segmenter: Segmenter,
     front_end: FrontEnd,
+    /// `[segmentation]`, set for the reference camera: the segmenter's
+    /// thresholds are these scaled for the camera's noise.
+    segmentation: SegmentationSettings,
+    /// Whether the camera's per-reading noise is still to be measured
+    /// (`NoiseSource::Frame` until a frame shows enough depth).
+    measuring: bool,
     capacity: usize,
     own_labels: LabelImage,
     ids: Vec<u16>,
@@ -70,15 +77,21 @@ pub struct Perceived<'a> {
 }
 
 impl Perception {
-    /// `capacity`: the most objects a snapshot may hold (`[scene]`).
+    /// `capacity`: the most objects a snapshot may hold (`[scene]`);
+    /// `noise`: where the camera's per-reading depth noise comes from
+    /// (`[ros2] depth_noise`): measured on its first frame that shows
+    /// enough depth, else `front_end`'s, which holds until then.
     pub fn new(
         front_end: FrontEndSettings,
         segmentation: SegmentationSettings,
+        noise: NoiseSource,
         capacity: usize,
     ) -> Self {
         Self {
-            segmenter: Segmenter::new(segmentation),
+            segmenter: Segmenter::new(segmentation.for_camera(front_end.noise.pixel)),
             front_end: FrontEnd::new(front_end),
+            segmentation,
+            measuring: noise == NoiseSource::Frame,
             capacity,
             own_labels: LabelImage::new(1, 1),
             ids: Vec::new(),
@@ -97,6 +110,9 @@ impl Perception {
         intrinsics: Intrinsics,
         labels: Option<&LabelImage>,
     ) -> Result<Perceived<'_>, PerceiveError> {
+        if self.measuring {
+            self.measure_noise(depth);
+        }
         let mut up = None;
         let labels = match labels {
             Some(l) => {
@@ -183,6 +199,35 @@ impl Perception {
             entries: &self.entries,
             up,
         })
+    }
+}
+
+impl Perception {
+    /// Sets the segmenter and the front end for the noise `depth` shows;
+    /// a camera's noise is its own, so once measured it is kept (a live
+    /// stream is not measured frame by frame).
+    fn measure_noise(&mut self, depth: &DepthImage) {
+        let configured = self.front_end.settings().noise.pixel;
+        let FrameLaw::Measured(measured) = FrameLaw::of(NoiseSource::Frame, depth, configured)
+        else {
+            return;
+        };
+        tracing::info!(
+            c = measured.c,
+            samples = measured.samples,
+            "depth noise measured on the camera's first frame: sigma = c z^2"
+        );
+        let law = FrameLaw::Measured(measured).law();
+        let mut settings = *self.front_end.settings();
+        settings.noise.pixel = law;
+        self.front_end = FrontEnd::new(settings);
+        self.segmenter = Segmenter::new(self.segmentation.for_camera(law));
+        self.measuring = false;
+    }
+
+    /// The per-reading law the camera's frames are measured with now.
+    pub fn pixel_law(&self) -> vref_perception::DepthLaw {
+        self.front_end.settings().noise.pixel
     }
 }
 
@@ -278,6 +323,7 @@ mod tests {
         let mut perception = Perception::new(
             vref_perception::PerceptionSettings::default().robot(),
             SegmentationSettings::default(),
+            NoiseSource::Config,
             64,
         );
         let found = perception
@@ -292,5 +338,39 @@ mod tests {
             .unwrap();
         assert_eq!(given.entries.len(), 1);
         assert_eq!(given.up, None);
+    }
+
+    /// With `[ros2] depth_noise = "frame"` a camera's noise is measured on
+    /// its first frame that shows depth and kept: the headset's configured
+    /// law (0.02 z^2) gives way to what the frame shows; a frame without
+    /// depth changes nothing; "config" keeps the configured law.
+    #[test]
+    fn the_cameras_noise_is_measured_on_its_first_frame_with_depth() {
+        let (colour, depth, _) = table_with_a_box([0.0, -1.0, 0.0]);
+        let intrinsics = Intrinsics::new(525.0, 525.0, 319.5, 239.5).unwrap();
+        let (w, h) = colour.dimensions();
+        let bare = DepthImage::new(vref_perception::DepthPixels::new(w, h), 0.001).unwrap();
+        let headset = vref_perception::PerceptionSettings::default().human();
+        let configured = headset.noise.pixel;
+        let perception =
+            |noise| Perception::new(headset, SegmentationSettings::default(), noise, 64);
+        let mut measuring = perception(NoiseSource::Frame);
+        assert!(measuring.process(&colour, &bare, intrinsics, None).is_err());
+        assert_eq!(measuring.pixel_law(), configured);
+        measuring
+            .process(&colour, &depth, intrinsics, None)
+            .unwrap();
+        let measured = measuring.pixel_law();
+        assert!(
+            measured.c > 0.0 && measured.c < configured.c / 4.0,
+            "{measured:?}"
+        );
+        let _ = measuring.process(&colour, &bare, intrinsics, None);
+        assert_eq!(measuring.pixel_law(), measured);
+        let mut configured_only = perception(NoiseSource::Config);
+        // Set for the rendered headset, the segmenter may well find
+        // nothing here; what matters is the law it kept.
+        let _ = configured_only.process(&colour, &depth, intrinsics, None);
+        assert_eq!(configured_only.pixel_law(), configured);
     }
 }

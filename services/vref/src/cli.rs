@@ -2,6 +2,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 use vref_match::{Method, Tier};
+use vref_perception::NoiseSource;
 
 /// vref: which object does the person mean? Graph matching of the robot's
 /// and the AR headset's views of one workspace.
@@ -792,7 +793,7 @@ pub struct SegmentArgs {
     /// for the depth noise each frame shows, measured on it (a noisier
     /// camera's thresholds grow with the root of its noise; a quieter
     /// one's stay); `config` takes [segmentation] as it is.
-    #[arg(long, value_enum, default_value_t = NoiseSource::Frame)]
+    #[arg(long, value_name = "frame|config", default_value_t = NoiseSource::Frame)]
     pub noise: NoiseSource,
     /// Configuration file (its [segmentation] section; default:
     /// $VREF_CONFIG, else config/vref.toml if present, else built-in
@@ -832,23 +833,13 @@ pub struct MatchArgs {
     /// [perception.robot] and [perception.human] `pixel` (the rendered
     /// BOP cameras by default). It sets the segmenter's thresholds and the
     /// objects' stated errors; the systematic part is always configured.
-    #[arg(long, value_enum, default_value_t = NoiseSource::Frame)]
+    #[arg(long, value_name = "frame|config", default_value_t = NoiseSource::Frame)]
     pub noise: NoiseSource,
     /// Configuration file ([matcher], [matching], [perception],
     /// [segmentation]; default: $VREF_CONFIG, else config/vref.toml if
     /// present, else built-in defaults).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
-}
-
-/// Where `vref match` and `vref segment` take a camera's per-reading
-/// depth noise from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum NoiseSource {
-    /// Measured on each frame.
-    Frame,
-    /// The configuration's.
-    Config,
 }
 
 #[derive(Debug, Args)]

@@ -22,7 +22,6 @@ mod harness;
 mod import;
 mod inject;
 mod match_frames;
-mod noise;
 mod progress;
 mod query;
 mod record;

@@ -18,7 +18,7 @@ use vref_perception::{
 use vref_scene::{Limits, SceneGraph, SceneObject};
 use vref_viz::{Answer, AnswerPicture, AnswerStatus, ImageObject, ViewImage};
 
-use crate::cli::{MatchArgs, NoiseSource};
+use crate::cli::MatchArgs;
 use crate::stdout;
 
 /// One camera's frame, its labels and what the front end measured.
@@ -65,10 +65,8 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
             .with_context(|| format!("the {who}'s frame {}", dir.display()))
             .bad_input()?;
         // Each camera's segmenter is set for its own depth noise.
-        if args.noise == NoiseSource::Frame {
-            let configured = settings.noise.pixel;
-            settings.noise.pixel = crate::noise::measured_law(&images, who).unwrap_or(configured);
-        }
+        settings.noise.pixel =
+            vref_feed::frame_law(args.noise, &images.depth, settings.noise.pixel, who);
         let mut segmenter = Segmenter::new(config.segmentation.for_camera(settings.noise.pixel));
         view(images, dir, &mut segmenter, &mut FrontEnd::new(settings))
     });

@@ -10,9 +10,9 @@ use vref_logging::exit::{Blame, Failure};
 use vref_perception::folder::{
     Camera, DEPTH_FILE, RgbdImages, camera_file_of, colour_file, frame_dirs,
 };
-use vref_perception::{LabelImage, RgbdFrame, Segmentation, Segmenter, segment::overlay};
+use vref_perception::{DepthLaw, LabelImage, RgbdFrame, Segmentation, Segmenter, segment::overlay};
 
-use crate::cli::{NoiseSource, SegmentArgs};
+use crate::cli::SegmentArgs;
 use crate::stdout;
 
 #[derive(Debug, serde::Serialize)]
@@ -73,13 +73,9 @@ pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
                 .bad_input()?;
         // The thresholds for the camera's noise as the frame shows it
         // (`[segmentation]` is set for a Kinect's).
-        let settings = match args.noise {
-            NoiseSource::Frame => crate::noise::measured_law(&images, &name)
-                .map_or(config.segmentation, |law| {
-                    config.segmentation.for_camera(law)
-                }),
-            NoiseSource::Config => config.segmentation,
-        };
+        // No camera is configured here: unmeasured, [segmentation] as it is.
+        let law = vref_feed::frame_law(args.noise, &images.depth, DepthLaw::ZERO, &name);
+        let settings = config.segmentation.for_camera(law);
         let mut segmenter = Segmenter::new(settings);
         let frame = RgbdFrame {
             colour: &images.colour,
