@@ -58,8 +58,8 @@ pub struct FeedArgs {
     /// RGB-D and rosbag sources: each camera's per-reading depth noise,
     /// which sets the segmenter's thresholds and the objects' stated
     /// errors: `frame` measures it on each frame (rgbd:) or on the
-    /// camera's first frames (rosbag:, as vref-ros2), the configured law
-    /// where a frame shows too little depth; `config` takes
+    /// camera's first frame with enough depth (rosbag:, as vref-ros2),
+    /// the configured law where a frame shows too little depth; `config` takes
     /// [perception.robot] or [perception.human] `pixel` (the rendered BOP
     /// cameras by default). Default: frame for rgbd:, [ros2] depth_noise
     /// for rosbag:.
