@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# `vref match` on real captures against themselves seen from elsewhere:
+# every OSD learn frame (a Kinect) as the robot's view, and the same
+# readings seen by a virtual camera walked YAW degrees around the table
+# as the person's (`reproject` example: the real noise, holes and flying
+# pixels; not a second sensor). Each person-side object's answer against
+# the robot segment most of its pixels came from, and an `ok` answer also
+# by physical object (OSD's labels: the two segments mostly one object, a
+# piece of it will do); a row per yaw.
+#
+#   bash tools/reprojected-pairs.sh [YAW...]      (default 15 30 45)
+#
+# Needs `cargo build --release -p vref --bins` first.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+. tools/need-vref.sh
+data=${VREF_DATA:-../shared/data}
+yaws=("$@")
+[ ${#yaws[@]} -gt 0 ] || yaws=(15 30 45)
+cargo build --release -q -p vref-perception --example reproject
+reproject=target/release/examples/reproject
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+echo "| yaw | frames | person-side objects | with a true partner | ok right | ok wrong | ok, other object | ambiguous right | ambiguous wrong | no partner (of them with a true one) |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+for yaw in "${yaws[@]}"; do
+  for frame in "$data"/osd/learn/*/; do
+    out=$work/$yaw-$(basename "$frame")
+    "$reproject" make "$frame" "$out" "$yaw" 2>/dev/null || continue
+    "$vref" match "$out/robot" "$out/human" --json --labels-out "$out/labels" \
+      > "$out/answers.jsonl" 2>/dev/null
+    "$reproject" score "$out"
+  done | python3 -c '
+import json, sys
+rows = [json.loads(l) for l in sys.stdin]
+n = lambda k: sum(r.get(k, 0) for r in rows)
+print("| %s | %d | %d | %d | %d | %d | %d | %d | %d | %d (%d) |" % (sys.argv[1], len(rows), n("objects"),
+      n("with_truth"), n("ok_right"), n("ok_wrong"), n("ok_other_object"), n("ambiguous_right"), n("ambiguous_wrong"),
+      n("no_partner_with_truth") + n("no_partner_without_truth"), n("no_partner_with_truth")))' "$yaw"
+done
