@@ -219,6 +219,81 @@ fn match_pairs_an_osd_scene_with_itself_and_names_its_labels() {
     );
 }
 
+/// Real readings seen from elsewhere (`vref_perception::reproject`: an
+/// OSD frame's readings from a camera walked 30 degrees around the
+/// table): every `ok` answer of `vref match` names a robot segment of
+/// the person's segment's physical object (OSD's labels), and most
+/// person-side objects are `ok`. learn38's bowl comes out in pieces;
+/// learn25's second view merges its two boxes into one segment, which
+/// appearance alone once answered `ok` with the wrong box.
+#[test]
+fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
+    use vref_perception::reproject::{majority, reproject};
+    let dir = tempfile::tempdir().unwrap();
+    let defaults = dir.path().join("defaults.toml");
+    std::fs::write(&defaults, "").unwrap();
+    let object_of = |l: u16| if l >= 20 { l / 10 } else { 0 };
+    let (mut ok, mut with_object) = (0, 0);
+    for scene in ["learn25", "learn38"] {
+        let robot = dir.path().join(scene).join("robot");
+        copy_frame(scene, &robot);
+        osd_camera(&robot);
+        let images = vref_perception::folder::RgbdImages::load(&robot, Default::default()).unwrap();
+        let view = reproject(
+            &images.colour,
+            &images.depth,
+            images.camera.intrinsics,
+            30.0,
+        )
+        .unwrap();
+        let human = dir.path().join(scene).join("human");
+        std::fs::create_dir_all(&human).unwrap();
+        view.colour.save(human.join("rgb.png")).unwrap();
+        view.depth.save(human.join("depth.png")).unwrap();
+        osd_camera(&human);
+        let out = dir.path().join(scene).join("labels");
+        let run = vref(
+            &[
+                "match",
+                robot.to_str().unwrap(),
+                human.to_str().unwrap(),
+                "--config",
+                defaults.to_str().unwrap(),
+                "--json",
+                "--labels-out",
+                out.to_str().unwrap(),
+            ],
+            LIMIT,
+        )
+        .ok();
+        let objects = labels(&osd_scene(scene).join("label.png"));
+        let (robot_labels, human_labels) = (
+            labels(&out.join("robot.png")),
+            labels(&out.join("human.png")),
+        );
+        for line in json_lines(&run.stdout) {
+            let person = line["human_label"].as_u64().unwrap() as u16;
+            let object = majority(&human_labels, person, 0.5, |at| {
+                view.source[at].map_or(0, |s| object_of(objects.as_raw()[s as usize]))
+            });
+            with_object += usize::from(object.is_some());
+            if line["status"] != "ok" {
+                continue;
+            }
+            ok += 1;
+            let named = line["robot_label"].as_u64().unwrap() as u16;
+            let named = majority(&robot_labels, named, 0.5, |at| {
+                object_of(objects.as_raw()[at])
+            });
+            assert!(
+                object.is_some() && named == object,
+                "{scene}: {line} names object {named:?}, not {object:?}"
+            );
+        }
+    }
+    assert!(ok * 2 >= with_object, "{ok} ok of {with_object}");
+}
+
 /// `vref match` measures each camera's depth noise on its own frame: a
 /// real Kinect frame given as both views is segmented alike on both sides
 /// under the default configuration, whose headset is eight times as noisy

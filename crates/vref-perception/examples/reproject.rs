@@ -1,12 +1,9 @@
-//! A second view of one real capture, for `vref match`: the frame's
-//! points seen from a virtual camera walked `yaw` degrees around the
-//! table (about the supporting plane's normal, through the centre of what
-//! stands on it), z-buffered, each reading keeping its own depth and
-//! colour. The real sensor's noise, holes and flying pixels stay; what a
-//! second sensor adds (its own noise, colours, lens) does not, and what
-//! the first camera never saw is a hole. Then, given `vref match`'s
-//! answers on the pair, each person-side object against the truth the
-//! reprojection knows: the robot segment most of its pixels came from.
+//! A second view of one real capture for `vref match`
+//! ([`vref_perception::reproject`]: the frame's readings seen from a
+//! virtual camera walked `yaw` degrees around the table), then, given
+//! `vref match`'s answers on the pair, each person-side object against
+//! the truth the reprojection knows: the robot segment most of its pixels
+//! came from, and for `ok` answers the physical object (OSD's labels).
 //!
 //! ```sh
 //! cargo run --release -p vref-perception --example reproject -- make FRAME_DIR OUT_DIR YAW_DEG
@@ -21,14 +18,12 @@
 //! over a folder of frames).
 
 use std::error::Error;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use image::{ImageBuffer, Luma, Rgb, RgbImage};
+use vref_perception::ImageLimit;
+use vref_perception::LabelImage;
 use vref_perception::folder::RgbdImages;
-use vref_perception::{
-    DepthPixels, ImageLimit, Intrinsics, LabelImage, RgbdFrame, Segmentation, SegmentationSettings,
-    Segmenter,
-};
+use vref_perception::reproject::{Reprojection, majority, reproject};
 
 type Result<T> = std::result::Result<T, Box<dyn Error>>;
 
@@ -50,17 +45,18 @@ fn main() -> Result<()> {
     }
 }
 
-/// The virtual view of a frame: its images, and for every pixel the
-/// source pixel it shows (`u32::MAX` for a hole).
-struct View {
-    colour: RgbImage,
-    depth: DepthPixels,
-    source: Vec<u32>,
+fn view_of(images: &RgbdImages, yaw_deg: f64) -> Result<Reprojection> {
+    Ok(reproject(
+        &images.colour,
+        &images.depth,
+        images.camera.intrinsics,
+        yaw_deg,
+    )?)
 }
 
 fn make(frame: &Path, out: &Path, yaw_deg: f64) -> Result<()> {
     let images = RgbdImages::load(frame, ImageLimit::default())?;
-    let view = reproject(&images, yaw_deg)?;
+    let view = view_of(&images, yaw_deg)?;
     for (side, colour, depth) in [
         ("robot", &images.colour, images.depth.pixels()),
         ("human", &view.colour, &view.depth),
@@ -88,108 +84,6 @@ fn make(frame: &Path, out: &Path, yaw_deg: f64) -> Result<()> {
     Ok(())
 }
 
-/// The frame seen from its camera turned `yaw_deg` about the supporting
-/// plane's normal through the centroid of the objects' readings.
-fn reproject(images: &RgbdImages, yaw_deg: f64) -> Result<View> {
-    let intrinsics = images.camera.intrinsics;
-    let mut labels = LabelImage::new(1, 1);
-    let frame = RgbdFrame {
-        colour: &images.colour,
-        depth: &images.depth,
-        intrinsics,
-        up: None,
-    };
-    let plane = match Segmenter::new(SegmentationSettings::default())
-        .segment(&frame, &mut labels)?
-    {
-        Segmentation::Objects { plane, .. } => plane,
-        Segmentation::NoSupport(why) => return Err(format!("no supporting plane: {why}").into()),
-    };
-    let (w, h) = images.colour.dimensions();
-    let scale = images.depth.metres_per_unit();
-    let raw = images.depth.pixels();
-    let point = |u: u32, v: u32| -> Option<[f64; 3]> {
-        let z = f64::from(raw.get_pixel(u, v).0[0]) * scale;
-        (z > 0.0).then(|| unproject(intrinsics, u, v, z))
-    };
-    let mut sum = [0.0; 3];
-    let mut count = 0.0;
-    for (u, v, l) in labels.enumerate_pixels() {
-        if let (true, Some(p)) = (l.0[0] > 0, point(u, v)) {
-            (0..3).for_each(|k| sum[k] += p[k]);
-            count += 1.0;
-        }
-    }
-    if count == 0.0 {
-        return Err("nothing stands on the plane".into());
-    }
-    let pivot = sum.map(|s| s / count);
-    // The camera turns by `yaw` about the normal through the pivot: the
-    // points, seen from it, by the opposite turn.
-    let turn = rotation(plane.normal, -yaw_deg.to_radians());
-    let mut view = View {
-        colour: ImageBuffer::from_pixel(w, h, Rgb([0, 0, 0])),
-        depth: DepthPixels::new(w, h),
-        source: vec![u32::MAX; (w * h) as usize],
-    };
-    let mut nearest = vec![f64::INFINITY; (w * h) as usize];
-    for v in 0..h {
-        for u in 0..w {
-            let Some(p) = point(u, v) else { continue };
-            let q = moved(&turn, pivot, p);
-            if q[2] <= 0.0 {
-                continue;
-            }
-            let x = intrinsics.fx() * q[0] / q[2] + intrinsics.cx();
-            let y = intrinsics.fy() * q[1] / q[2] + intrinsics.cy();
-            // Each reading covers the 2 x 2 pixels around where it lands,
-            // so that a surface seen closer keeps no cracks.
-            for (dx, dy) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
-                let (tx, ty) = ((x + dx - 0.5).floor(), (y + dy - 0.5).floor());
-                if tx < 0.0 || ty < 0.0 || tx >= f64::from(w) || ty >= f64::from(h) {
-                    continue;
-                }
-                let at = ty as usize * w as usize + tx as usize;
-                if q[2] < nearest[at] {
-                    nearest[at] = q[2];
-                    view.source[at] = v * w + u;
-                    let (tx, ty) = (tx as u32, ty as u32);
-                    view.colour
-                        .put_pixel(tx, ty, *images.colour.get_pixel(u, v));
-                    let units = (q[2] / scale).round().min(f64::from(u16::MAX)) as u16;
-                    view.depth.put_pixel(tx, ty, Luma([units]));
-                }
-            }
-        }
-    }
-    Ok(view)
-}
-
-fn unproject(c: Intrinsics, u: u32, v: u32, z: f64) -> [f64; 3] {
-    [
-        (f64::from(u) - c.cx()) / c.fx() * z,
-        (f64::from(v) - c.cy()) / c.fy() * z,
-        z,
-    ]
-}
-
-/// The rotation by `angle` about the unit `axis` (Rodrigues).
-fn rotation(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
-    let [x, y, z] = axis;
-    let (s, c) = angle.sin_cos();
-    let t = 1.0 - c;
-    [
-        [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
-        [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
-        [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
-    ]
-}
-
-fn moved(r: &[[f64; 3]; 3], pivot: [f64; 3], p: [f64; 3]) -> [f64; 3] {
-    let d = [p[0] - pivot[0], p[1] - pivot[1], p[2] - pivot[2]];
-    std::array::from_fn(|k| r[k][0] * d[0] + r[k][1] * d[1] + r[k][2] * d[2] + pivot[k])
-}
-
 /// One answer line of `vref match --json`.
 #[derive(serde::Deserialize)]
 struct Answer {
@@ -201,51 +95,34 @@ struct Answer {
 fn score(out: &Path) -> Result<()> {
     let yaw: f64 = std::fs::read_to_string(out.join("yaw"))?.trim().parse()?;
     let images = RgbdImages::load(&out.join("robot"), ImageLimit::default())?;
-    let view = reproject(&images, yaw)?;
-    let labels = |name: &str| -> Result<LabelImage> {
-        let path: PathBuf = out.join("labels").join(name);
-        Ok(image::open(&path)
+    let view = view_of(&images, yaw)?;
+    let labels = |path: &Path| -> Result<LabelImage> {
+        Ok(image::open(path)
             .map_err(|e| format!("{}: {e}", path.display()))?
             .into_luma16())
     };
-    let (robot, human) = (labels("robot.png")?, labels("human.png")?);
+    let robot = labels(&out.join("labels/robot.png"))?;
+    let human = labels(&out.join("labels/human.png"))?;
     let objects = out.join(OBJECTS_FILE);
-    let objects = objects
-        .is_file()
-        .then(|| image::open(&objects).map(|i| i.into_luma16()))
-        .transpose()?;
+    let objects = objects.is_file().then(|| labels(&objects)).transpose()?;
     let object_of = |l: u16| if l >= 20 { l / 10 } else { 0 };
-    // The value most of `label`'s pixels in `labels` show through `of`
-    // (0 and a share under MAJORITY: none).
-    let majority = |labels: &LabelImage, label: u16, of: &dyn Fn(usize) -> u16| {
-        let mut votes = std::collections::BTreeMap::<u16, usize>::new();
-        let mut pixels = 0;
-        for (at, l) in labels.as_raw().iter().enumerate() {
-            if *l == label {
-                pixels += 1;
-                *votes.entry(of(at)).or_default() += 1;
-            }
-        }
-        let (&best, &n) = votes
-            .iter()
-            .max_by_key(|(l, n)| (**n, std::cmp::Reverse(**l)))?;
-        (best != 0 && n as f64 >= MAJORITY * f64::from(pixels)).then_some(best)
-    };
-    let source = |at: usize| view.source.get(at).copied().filter(|&s| s != u32::MAX);
+    let source = |at: usize| view.source.get(at).copied().flatten();
     let truth = |label: u16| {
-        majority(&human, label, &|at| {
+        majority(&human, label, MAJORITY, |at| {
             source(at).map_or(0, |s| robot.as_raw()[s as usize])
         })
     };
     let human_object = |label: u16| {
         let objects = objects.as_ref()?;
-        majority(&human, label, &|at| {
+        majority(&human, label, MAJORITY, |at| {
             source(at).map_or(0, |s| object_of(objects.as_raw()[s as usize]))
         })
     };
     let robot_object = |label: u16| {
         let objects = objects.as_ref()?;
-        majority(&robot, label, &|at| object_of(objects.as_raw()[at]))
+        majority(&robot, label, MAJORITY, |at| {
+            object_of(objects.as_raw()[at])
+        })
     };
     let text = std::fs::read_to_string(out.join("answers.jsonl"))?;
     let verbose = std::env::var_os("VERBOSE").is_some();

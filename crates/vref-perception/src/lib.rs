@@ -43,6 +43,7 @@ mod intrinsics;
 mod load;
 mod noise;
 mod outline;
+pub mod reproject;
 pub mod segment;
 mod settings;
 

@@ -1,0 +1,194 @@
+//! A second view of one capture, for checking matching across viewpoints
+//! on real readings: the frame's points seen from a virtual camera
+//! walked around the table (about the supporting plane's normal, through
+//! the centre of what stands on it), z-buffered, each reading keeping its
+//! own depth and colour. The real sensor's noise, holes and flying pixels
+//! stay; what a second sensor adds (its own noise, colours, lens) does
+//! not, and what the first camera never saw is a hole. Every pixel of the
+//! view knows the reading it shows, which is the truth a match of the
+//! two views is scored against.
+
+use image::{Luma, Rgb, RgbImage};
+
+use crate::segment::{LabelImage, NoSupport, RgbdFrame, Segmentation, Segmenter};
+use crate::{DepthImage, DepthPixels, Intrinsics, SegmentError, SegmentationSettings};
+
+/// Why a frame has no second view.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReprojectError {
+    #[error("segmenting the frame")]
+    Segment(#[from] SegmentError),
+    #[error("no supporting plane to walk around ({0})")]
+    NoSupport(NoSupport),
+    #[error("nothing stands on the supporting plane")]
+    NothingOnIt,
+}
+
+/// The virtual view of a frame.
+#[derive(Debug, Clone)]
+pub struct Reprojection {
+    pub colour: RgbImage,
+    pub depth: DepthPixels,
+    /// For every pixel (row-major), the index of the frame's pixel it
+    /// shows; `None` for a hole.
+    pub source: Vec<Option<u32>>,
+}
+
+/// `colour` and `depth` (taken with `intrinsics`) seen from their camera
+/// turned `yaw_deg` about the supporting plane's normal through the
+/// centroid of the readings vref's segmenter puts on it; the same camera
+/// model, the depth in the frame's units.
+pub fn reproject(
+    colour: &RgbImage,
+    depth: &DepthImage,
+    intrinsics: Intrinsics,
+    yaw_deg: f64,
+) -> Result<Reprojection, ReprojectError> {
+    let mut labels = LabelImage::new(1, 1);
+    let frame = RgbdFrame {
+        colour,
+        depth,
+        intrinsics,
+        up: None,
+    };
+    let plane =
+        match Segmenter::new(SegmentationSettings::default()).segment(&frame, &mut labels)? {
+            Segmentation::Objects { plane, .. } => plane,
+            Segmentation::NoSupport(why) => return Err(ReprojectError::NoSupport(why)),
+        };
+    let (w, h) = colour.dimensions();
+    let scale = depth.metres_per_unit();
+    let raw = depth.pixels();
+    let point = |u: u32, v: u32| -> Option<[f64; 3]> {
+        let z = f64::from(raw.get_pixel(u, v).0[0]) * scale;
+        (z > 0.0).then(|| unproject(intrinsics, u, v, z))
+    };
+    let mut sum = [0.0; 3];
+    let mut count = 0.0;
+    for (u, v, l) in labels.enumerate_pixels() {
+        if let (true, Some(p)) = (l.0[0] > 0, point(u, v)) {
+            (0..3).for_each(|k| sum[k] += p[k]);
+            count += 1.0;
+        }
+    }
+    if count == 0.0 {
+        return Err(ReprojectError::NothingOnIt);
+    }
+    let pivot = sum.map(|s| s / count);
+    // The camera turns by `yaw` about the normal through the pivot: the
+    // points, seen from it, by the opposite turn.
+    let turn = rotation(plane.normal, -yaw_deg.to_radians());
+    let mut view = Reprojection {
+        colour: RgbImage::from_pixel(w, h, Rgb([0, 0, 0])),
+        depth: DepthPixels::new(w, h),
+        source: vec![None; (w * h) as usize],
+    };
+    let mut nearest = vec![f64::INFINITY; (w * h) as usize];
+    for v in 0..h {
+        for u in 0..w {
+            let Some(p) = point(u, v) else { continue };
+            let q = moved(&turn, pivot, p);
+            if q[2] <= 0.0 {
+                continue;
+            }
+            let x = intrinsics.fx() * q[0] / q[2] + intrinsics.cx();
+            let y = intrinsics.fy() * q[1] / q[2] + intrinsics.cy();
+            // Each reading covers the 2 x 2 pixels around where it lands,
+            // so that a surface seen closer keeps no cracks.
+            for (dx, dy) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+                let (tx, ty) = ((x + dx - 0.5).floor(), (y + dy - 0.5).floor());
+                if tx < 0.0 || ty < 0.0 || tx >= f64::from(w) || ty >= f64::from(h) {
+                    continue;
+                }
+                let at = ty as usize * w as usize + tx as usize;
+                if q[2] < nearest[at] {
+                    nearest[at] = q[2];
+                    view.source[at] = Some(v * w + u);
+                    let (tx, ty) = (tx as u32, ty as u32);
+                    view.colour.put_pixel(tx, ty, *colour.get_pixel(u, v));
+                    let units = (q[2] / scale).round().min(f64::from(u16::MAX)) as u16;
+                    view.depth.put_pixel(tx, ty, Luma([units]));
+                }
+            }
+        }
+    }
+    Ok(view)
+}
+
+/// The value most pixels of `label` in `labels` map to through `of`
+/// (given each pixel's row-major index), if it is not 0 and at least
+/// `share` of them map to it.
+pub fn majority(
+    labels: &LabelImage,
+    label: u16,
+    share: f64,
+    of: impl Fn(usize) -> u16,
+) -> Option<u16> {
+    let mut votes = std::collections::BTreeMap::<u16, usize>::new();
+    let mut pixels = 0usize;
+    for (at, l) in labels.as_raw().iter().enumerate() {
+        if *l == label {
+            pixels += 1;
+            *votes.entry(of(at)).or_default() += 1;
+        }
+    }
+    let (&best, &n) = votes
+        .iter()
+        .max_by_key(|(l, n)| (**n, std::cmp::Reverse(**l)))?;
+    (best != 0 && n as f64 >= share * pixels as f64).then_some(best)
+}
+
+fn unproject(c: Intrinsics, u: u32, v: u32, z: f64) -> [f64; 3] {
+    [
+        (f64::from(u) - c.cx()) / c.fx() * z,
+        (f64::from(v) - c.cy()) / c.fy() * z,
+        z,
+    ]
+}
+
+/// The rotation by `angle` about the unit `axis` (Rodrigues).
+fn rotation(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
+    let [x, y, z] = axis;
+    let (s, c) = angle.sin_cos();
+    let t = 1.0 - c;
+    [
+        [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+        [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+        [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+    ]
+}
+
+fn moved(r: &[[f64; 3]; 3], pivot: [f64; 3], p: [f64; 3]) -> [f64; 3] {
+    let d = [p[0] - pivot[0], p[1] - pivot[1], p[2] - pivot[2]];
+    std::array::from_fn(|k| r[k][0] * d[0] + r[k][1] * d[1] + r[k][2] * d[2] + pivot[k])
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use super::{majority, rotation};
+    use crate::LabelImage;
+
+    /// A quarter turn about z takes x to y; the inverse turn undoes it.
+    #[test]
+    fn rotations_turn_about_their_axis() {
+        let r = rotation([0.0, 0.0, 1.0], std::f64::consts::FRAC_PI_2);
+        let x = [1.0, 0.0, 0.0];
+        let y: Vec<f64> = (0..3)
+            .map(|k| (0..3).map(|j| r[k][j] * x[j]).sum())
+            .collect();
+        assert!((y[0]).abs() < 1e-12 && (y[1] - 1.0).abs() < 1e-12 && y[2].abs() < 1e-12);
+    }
+
+    /// The majority needs its share and is never 0.
+    #[test]
+    fn the_majority_needs_its_share() {
+        let labels = LabelImage::from_raw(4, 1, vec![5, 5, 5, 0]).unwrap();
+        let through = [7u16, 7, 8, 9];
+        assert_eq!(majority(&labels, 5, 0.5, |at| through[at]), Some(7));
+        assert_eq!(majority(&labels, 5, 0.7, |at| through[at]), None);
+        assert_eq!(majority(&labels, 5, 0.5, |_| 0), None);
+        assert_eq!(majority(&labels, 3, 0.5, |at| through[at]), None);
+    }
+}
