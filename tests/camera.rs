@@ -64,7 +64,9 @@ fn feeds_on_rgbd_folders_publish_segmented_objects_that_the_matcher_matches() {
             .map(|()| frames.as_path())
             .unwrap(),
     );
-    copy_frame("learn3", &frames.join("0001"));
+    // A frame of several objects: a view of one or two fixes no motion
+    // and is never answered `ok` (docs/method.md).
+    copy_frame("learn36", &frames.join("0001"));
     copy_frame("learn7", &frames.join("0002"));
     wall_frame("learn3", &frames.join("0003"));
     // An epoch just passed and an hour's hold: both feeds show frame 0001

@@ -8,7 +8,7 @@
 # by physical object (OSD's labels: the two segments mostly one object, a
 # piece of it will do); a row per yaw.
 #
-#   bash tools/reprojected-pairs.sh [YAW...]      (default 15 30 45)
+#   bash tools/reprojected-pairs.sh [YAW...]      (default -45 -30 -15 15 30 45)
 #
 # Needs `cargo build --release -p vref --bins` first.
 set -euo pipefail
@@ -16,7 +16,7 @@ cd "$(dirname "$0")/.."
 . tools/need-vref.sh
 data=${VREF_DATA:-../shared/data}
 yaws=("$@")
-[ ${#yaws[@]} -gt 0 ] || yaws=(15 30 45)
+[ ${#yaws[@]} -gt 0 ] || yaws=(-45 -30 -15 15 30 45)
 cargo build --release -q -p vref-perception --example reproject
 reproject=target/release/examples/reproject
 work=$(mktemp -d)

@@ -22,9 +22,7 @@ use crate::{Params, Problem, Solution, hungarian_max};
 use costs::Costs;
 pub use motion::{RigidMotion, median_spacing};
 pub use params::RigidParams;
-use search::{
-    DISTANCE_TOLERANCE, chance_inliers, explained, largest_score, rescore, score_of, search,
-};
+use search::{chance_inliers, explained, largest_score, rescore, score_of, search};
 pub(crate) use track::Track;
 
 /// Score of a column a row must never take in the padded assignment.
@@ -245,9 +243,9 @@ pub(crate) fn solve_from(
         Some(_) => !rp.chance_rule || coincidence::evidence(&measures, rp) >= rp.evidence_floor,
         // Without a motion (a view of under three objects fixes none, and
         // a search may find no sample that holds) the partners rest on
-        // appearance, checked only by the distances between them, as the
-        // search checks its samples: a lone partner has none to check.
-        None => distances_agree(problem, &assignment, DISTANCE_TOLERANCE * costs.typical),
+        // appearance alone: a lone pair has nothing to check it, and two
+        // pairs fit their own swap as well as themselves.
+        None => false,
     };
     for (c, a) in confidence.iter_mut().zip(&assignment) {
         *c = rp.calibration.probability(*c, a.is_none(), margin);
@@ -379,23 +377,6 @@ fn chance_costs(
     }
     out.sort_by(f64::total_cmp);
     out
-}
-
-/// Whether `assignment` gives at least two partners and every two of
-/// them lie as far apart as their human objects, within `tolerance`.
-fn distances_agree(problem: &Problem, assignment: &[Option<usize>], tolerance: f64) -> bool {
-    let pairs: Vec<(usize, usize)> = assignment
-        .iter()
-        .enumerate()
-        .filter_map(|(i, a)| a.map(|j| (i, j)))
-        .collect();
-    let (hp, rp) = (&problem.human_positions, &problem.robot_positions);
-    pairs.len() >= 2
-        && pairs.iter().enumerate().all(|(k, &(i, j))| {
-            pairs[k + 1..]
-                .iter()
-                .all(|&(a, b)| ((hp[i] - hp[a]).norm() - (rp[j] - rp[b]).norm()).abs() <= tolerance)
-        })
 }
 
 /// The motion re-fitted to the assigned pairs; `None` below three pairs.

@@ -21,10 +21,6 @@ const ATTEMPTS_PER_HYPOTHESIS: usize = 50;
 /// temperature this was chosen with, 0.1); in affinity units, so that the
 /// temperature weighs appearance without widening the search.
 const CANDIDATE_GAP: f64 = 0.1 * std::f64::consts::LN_10;
-/// How far, in typical scales, the distance between two human objects may
-/// differ from their partners' and the pairs still agree: by the noise of
-/// two positions on each side.
-pub(super) const DISTANCE_TOLERANCE: f64 = 3.0;
 /// Re-fits per locally optimised hypothesis (each must raise its score).
 const LOCAL_REFITS: usize = 3;
 
@@ -50,7 +46,8 @@ pub(super) fn search(
     let human_order = position_order(hp);
     let robot_rank = ranks(&position_order(rpos));
     let candidates = candidate_columns(costs.log_g, n, m, rp, &robot_rank);
-    let tolerance = DISTANCE_TOLERANCE * sigma;
+    // Distances may disagree by the noise of two positions on each side.
+    let tolerance = 3.0 * sigma;
     let mut rng = SplitMix(rp.seed ^ ((n as u64) << 32) ^ m as u64);
     // Every sample checks its pairs' distances: computed once.
     let (human_d, robot_d) = (distances(hp), distances(rpos));
