@@ -29,6 +29,17 @@ pub struct PixelNoise {
     pub samples: usize,
 }
 
+impl PixelNoise {
+    /// The measurement as a depth law: `sigma = c z^2`.
+    pub fn law(&self) -> DepthLaw {
+        DepthLaw {
+            a: 0.0,
+            b: 0.0,
+            c: self.c,
+        }
+    }
+}
+
 /// The per-reading noise `depth` shows, as `c` of `sigma = c z^2` (the
 /// law of structured-light and stereo cameras): from the second
 /// differences of three neighbouring readings along rows and columns,
@@ -154,11 +165,7 @@ impl FrameLaw {
     pub fn law(&self) -> DepthLaw {
         match *self {
             FrameLaw::Configured(law) | FrameLaw::Unmeasured(law) => law,
-            FrameLaw::Measured(m) => DepthLaw {
-                a: 0.0,
-                b: 0.0,
-                c: m.c,
-            },
+            FrameLaw::Measured(m) => m.law(),
         }
     }
 }

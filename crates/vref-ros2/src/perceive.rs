@@ -5,9 +5,9 @@
 use image::GrayImage;
 use vref_feed::EntryError;
 use vref_perception::{
-    DepthImage, Detection, FrameError, FrameLaw, FrontEnd, FrontEndSettings, Intrinsics,
-    LabelImage, Mask, NoiseSource, RgbdFrame, SegmentError, Segmentation, SegmentationSettings,
-    Segmenter,
+    DepthImage, Detection, FrameError, FrontEnd, FrontEndSettings, Intrinsics, LabelImage, Mask,
+    NoiseSource, RgbdFrame, SegmentError, Segmentation, SegmentationSettings, Segmenter,
+    pixel_noise,
 };
 use vref_wire::ObjectEntry;
 
@@ -207,9 +207,7 @@ impl Perception {
     /// a camera's noise is its own, so once measured it is kept (a live
     /// stream is not measured frame by frame).
     fn measure_noise(&mut self, depth: &DepthImage) {
-        let configured = self.front_end.settings().noise.pixel;
-        let FrameLaw::Measured(measured) = FrameLaw::of(NoiseSource::Frame, depth, configured)
-        else {
+        let Some(measured) = pixel_noise(depth) else {
             return;
         };
         tracing::info!(
@@ -217,7 +215,7 @@ impl Perception {
             samples = measured.samples,
             "depth noise measured on the camera's first frame: sigma = c z^2"
         );
-        let law = FrameLaw::Measured(measured).law();
+        let law = measured.law();
         let mut settings = *self.front_end.settings();
         settings.noise.pixel = law;
         self.front_end = FrontEnd::new(settings);
