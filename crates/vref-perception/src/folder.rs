@@ -6,8 +6,9 @@
 //!   (an instance label image, 8- or 16-bit grey, 0 = background, each
 //!   other value one object: what `vref segment` writes);
 //! - `camera.json` (`fx`, `fy`, `cx`, `cy`, optional `width` and `height`,
-//!   `depth_scale_mm`, millimetres per depth unit, default 1) is the
-//!   nearest one: in the frame folder, else the folder above, else the one
+//!   `depth_scale_mm`, millimetres per depth unit, default 1; optional
+//!   `distortion_model` and `d`, the lens as ROS's CameraInfo states it,
+//!   [`crate::lens`]) is the nearest one: in the frame folder, else the folder above, else the one
 //!   above that. So a single frame, `DIR/camera.json` beside `DIR/NNNN/`
 //!   frame folders, and the OSD layout (`camera.json` beside `learn/`)
 //!   all read as they are.
@@ -15,15 +16,21 @@
 //! OSD's own `label.png` is never read as masks: it is ground truth in
 //! OSD's scheme (table and background below 20), not instances.
 //!
+//! A frame whose camera states a lens distortion is rectified as it is
+//! loaded: its images (masks too) become the pinhole images of the same
+//! intrinsics, and so are the labels and pixels of what is made of them.
+//!
 //! Every error names the file and what is wrong with it.
 
 use std::path::{Path, PathBuf};
 
-use image::{DynamicImage, RgbImage};
+use image::{DynamicImage, Luma, Rgb, RgbImage};
 
 use crate::load::decode;
 use crate::segment::LabelImage;
-use crate::{DepthImage, FrameError, ImageLimit, Intrinsics, LoadError, load_colour, load_depth};
+use crate::{
+    DepthImage, FrameError, ImageLimit, Intrinsics, LoadError, Rectifier, load_colour, load_depth,
+};
 
 /// The colour image of a frame folder, PNG or else JPEG.
 pub const RGB_FILE: &str = "rgb.png";
@@ -58,6 +65,12 @@ pub enum FolderError {
         #[source]
         source: FrameError,
     },
+    #[error("{path}: bad lens distortion")]
+    Lens {
+        path: PathBuf,
+        #[source]
+        source: crate::LensError,
+    },
     #[error("{path}: give both width and height, or neither")]
     HalfSize { path: PathBuf },
     #[error("no camera file for {frame}: none of {tried} exists")]
@@ -84,12 +97,15 @@ pub enum FolderError {
     },
 }
 
-/// A pinhole camera, its depth unit and the image size it states.
+/// A camera, its depth unit and the image size it states.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     pub intrinsics: Intrinsics,
     pub metres_per_unit: f64,
     pub size: Option<(u32, u32)>,
+    /// The lens's distortion, where it has one: its frames are rectified
+    /// to the pinhole camera of `intrinsics` as they are loaded.
+    pub lens: Option<crate::Distortion>,
 }
 
 #[derive(Debug, serde::Deserialize)]
@@ -102,6 +118,10 @@ struct CameraFile {
     height: Option<u32>,
     #[serde(default = "one")]
     depth_scale_mm: f64,
+    #[serde(default)]
+    distortion_model: String,
+    #[serde(default)]
+    d: Vec<f64>,
 }
 
 fn one() -> f64 {
@@ -148,10 +168,17 @@ impl Camera {
                 });
             }
         };
+        let lens = crate::Distortion::new(&file.distortion_model, &file.d).map_err(|source| {
+            FolderError::Lens {
+                path: path.to_owned(),
+                source,
+            }
+        })?;
         Ok(Self {
             intrinsics,
             metres_per_unit: file.depth_scale_mm / 1000.0,
             size,
+            lens,
         })
     }
 }
@@ -239,7 +266,8 @@ pub fn natural_key(name: &str) -> (String, u64, String) {
     )
 }
 
-/// One frame folder decoded and checked against itself and its camera.
+/// One frame folder decoded and checked against itself and its camera,
+/// rectified where the camera states a lens distortion.
 #[derive(Debug, Clone)]
 pub struct RgbdImages {
     pub camera: Camera,
@@ -315,12 +343,6 @@ impl RgbdImages {
         if pixels.as_raw().iter().all(|&d| d == 0) {
             return Err(FolderError::NoDepth { path: depth_path });
         }
-        let depth = DepthImage::new(pixels, camera.metres_per_unit).map_err(|source| {
-            FolderError::Intrinsics {
-                path: depth_path.clone(),
-                source,
-            }
-        })?;
         let masks = match masks_path {
             Some(path) => {
                 let labels = load_labels(path, limit)?;
@@ -329,6 +351,37 @@ impl RgbdImages {
             }
             None => None,
         };
+        let (colour, pixels, masks) = match &camera.lens {
+            Some(lens) => {
+                let rectifier = Rectifier::new(&camera.intrinsics, lens, width, height);
+                let lens_error = |path: &Path| {
+                    let path = path.to_owned();
+                    move |source| FolderError::Lens { path, source }
+                };
+                let masks = match (masks, masks_path) {
+                    (Some(m), Some(path)) => {
+                        Some(rectifier.apply(&m, Luma([0])).map_err(lens_error(path))?)
+                    }
+                    _ => None,
+                };
+                (
+                    rectifier
+                        .apply(&colour, Rgb([0, 0, 0]))
+                        .map_err(lens_error(&rgb))?,
+                    rectifier
+                        .apply(&pixels, Luma([0]))
+                        .map_err(lens_error(&depth_path))?,
+                    masks,
+                )
+            }
+            None => (colour, pixels, masks),
+        };
+        let depth = DepthImage::new(pixels, camera.metres_per_unit).map_err(|source| {
+            FolderError::Intrinsics {
+                path: depth_path.clone(),
+                source,
+            }
+        })?;
         Ok(Self {
             camera,
             colour,

@@ -1,0 +1,190 @@
+//! A camera whose lens bends rays: its frame folder states the distortion
+//! in camera.json, and the objects come out where they are, where a
+//! pinhole reading of the same images puts those near the edges
+//! centimetres off.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::Path;
+
+use image::{Luma, Rgb, RgbImage};
+use vref_perception::folder::{FolderError, RgbdImages};
+use vref_perception::{
+    DepthPixels, Distortion, Frame, FrontEnd, ImageLimit, LabelImage, Mask, PerceptionSettings,
+    label_masks,
+};
+
+const W: u32 = 640;
+const H: u32 = 480;
+const FX: f64 = 525.0;
+const CX: f64 = 319.5;
+const CY: f64 = 239.5;
+/// A wide lens's barrel: about 5 % at the image's corners.
+const D: [f64; 5] = [-0.12, 0.05, 0.0008, -0.0005, 0.0];
+
+/// Balls on a floor 1.2 m ahead: centres in the camera frame, radius,
+/// colour. Spread to the image's edges, where the lens bends most.
+const BALLS: [([f64; 3], f64, [u8; 3]); 5] = [
+    ([0.0, 0.0, 1.1], 0.05, [200, 40, 30]),
+    ([-0.55, -0.35, 1.1], 0.05, [40, 60, 210]),
+    ([0.55, 0.38, 1.1], 0.05, [220, 200, 40]),
+    ([0.58, -0.36, 1.1], 0.05, [30, 170, 60]),
+    ([-0.56, 0.37, 1.1], 0.05, [160, 40, 170]),
+];
+const FLOOR_Z: f64 = 1.2;
+
+/// The pinhole ray (`x = X / Z`, `y = Y / Z`) the lens puts at normalised
+/// point `(xd, yd)`: the model inverted by fixed-point iteration, as
+/// OpenCV's `undistortPoints` does.
+fn undistort(lens: &Distortion, xd: f64, yd: f64) -> (f64, f64) {
+    let (mut x, mut y) = (xd, yd);
+    for _ in 0..50 {
+        let (dx, dy) = lens.distort(x, y);
+        x += xd - dx;
+        y += yd - dy;
+    }
+    (x, y)
+}
+
+/// Depth (mm), colour and labels of the scene as a camera with `lens`
+/// records it (each raw pixel's own ray, cast).
+fn render(lens: &Distortion) -> (RgbImage, DepthPixels, LabelImage) {
+    let mut colour = RgbImage::from_pixel(W, H, Rgb([120, 110, 100]));
+    let mut depth = DepthPixels::new(W, H);
+    let mut labels = LabelImage::new(W, H);
+    for v in 0..H {
+        for u in 0..W {
+            let (x, y) = undistort(lens, (f64::from(u) - CX) / FX, (f64::from(v) - CY) / FX);
+            // Along the ray (x, y, 1): the floor at z = FLOOR_Z, or the
+            // nearest ball in front of it.
+            let ray = [x, y, 1.0];
+            let mut hit = (FLOOR_Z, 0u16, [120, 110, 100]);
+            for (k, &(c, r, look)) in BALLS.iter().enumerate() {
+                let rr = ray.iter().map(|a| a * a).sum::<f64>();
+                let rc = ray.iter().zip(c).map(|(a, b)| a * b).sum::<f64>();
+                let cc = c.iter().map(|a| a * a).sum::<f64>();
+                let disc = rc * rc - rr * (cc - r * r);
+                if disc >= 0.0 {
+                    let t = (rc - disc.sqrt()) / rr;
+                    if t < hit.0 {
+                        hit = (t, k as u16 + 1, look);
+                    }
+                }
+            }
+            depth.put_pixel(u, v, Luma([(hit.0 * 1000.0).round() as u16]));
+            labels.put_pixel(u, v, Luma([hit.1]));
+            colour.put_pixel(u, v, Rgb(hit.2));
+        }
+    }
+    (colour, depth, labels)
+}
+
+fn write_frame(dir: &Path, camera: &str) {
+    let lens = Distortion::new("plumb_bob", &D).unwrap().unwrap();
+    let (colour, depth, labels) = render(&lens);
+    colour.save(dir.join("rgb.png")).unwrap();
+    depth.save(dir.join("depth.png")).unwrap();
+    labels.save(dir.join("masks.png")).unwrap();
+    std::fs::write(dir.join("camera.json"), camera).unwrap();
+}
+
+/// Each ball's position error (metres), by label, of the frame in `dir`.
+fn errors(dir: &Path) -> Vec<f64> {
+    let frame = RgbdImages::load(dir, ImageLimit::default()).unwrap();
+    let masks = label_masks(frame.masks.as_ref().unwrap());
+    let masks: Vec<Mask<'_>> = masks
+        .iter()
+        .map(|m| Mask {
+            id: u64::from(m.label),
+            pixels: &m.pixels,
+        })
+        .collect();
+    let mut front_end = FrontEnd::new(PerceptionSettings::default().robot());
+    let mut objects = Vec::new();
+    front_end
+        .process(
+            &Frame {
+                colour: &frame.colour,
+                depth: &frame.depth,
+                intrinsics: frame.camera.intrinsics,
+                masks: &masks,
+            },
+            &mut objects,
+        )
+        .unwrap();
+    assert_eq!(objects.len(), BALLS.len(), "every ball is an object");
+    objects
+        .iter()
+        .map(|o| {
+            let truth = BALLS[o.id as usize - 1].0;
+            let e: f64 = o
+                .position
+                .iter()
+                .zip(truth)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum();
+            e.sqrt()
+        })
+        .collect()
+}
+
+fn camera(lens: &str) -> String {
+    format!(
+        r#"{{"fx": {FX}, "fy": {FX}, "cx": {CX}, "cy": {CY}, "width": {W}, "height": {H}{lens}}}"#
+    )
+}
+
+#[test]
+fn a_frame_of_a_bending_lens_is_rectified_and_its_objects_placed_right() {
+    let d = D.map(|k| k.to_string()).join(", ");
+    let rectified = tempfile::tempdir().unwrap();
+    write_frame(
+        rectified.path(),
+        &camera(&format!(r#", "distortion_model": "plumb_bob", "d": [{d}]"#)),
+    );
+    let pinhole = tempfile::tempdir().unwrap();
+    write_frame(pinhole.path(), &camera(""));
+    let with_lens = errors(rectified.path());
+    let without = errors(pinhole.path());
+    eprintln!("errors with the lens {with_lens:.4?}, read as a pinhole {without:.4?}");
+    // The centre ball is where it is either way; the corner ones only
+    // with the lens.
+    assert!(with_lens.iter().all(|&e| e < 0.01), "{with_lens:?}");
+    assert!(without[0] < 0.01, "{without:?}");
+    assert!(without[1..].iter().all(|&e| e > 0.015), "{without:?}");
+}
+
+#[test]
+fn a_lens_that_cannot_be_used_is_refused_naming_the_camera_file() {
+    for (lens, why) in [
+        (
+            r#", "distortion_model": "equidistant", "d": [0.1, 0, 0, 0]"#,
+            "distortion model \"equidistant\" is not supported",
+        ),
+        (
+            r#", "distortion_model": "plumb_bob", "d": [0.1, 0, 0]"#,
+            "takes 4 or 5 coefficients, 3 given",
+        ),
+        (
+            r#", "d": [0.1, 0, 0, 0, 0]"#,
+            "coefficients given without a model",
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        write_frame(dir.path(), &camera(lens));
+        let err = RgbdImages::load(dir.path(), ImageLimit::default()).unwrap_err();
+        assert!(matches!(err, FolderError::Lens { .. }), "{err:?}");
+        let message = format!("{err}: {}", std::error::Error::source(&err).unwrap());
+        assert!(
+            message.contains("camera.json") && message.contains(why),
+            "{message}"
+        );
+    }
+    // All zero is no distortion, whatever the model.
+    let dir = tempfile::tempdir().unwrap();
+    write_frame(
+        dir.path(),
+        &camera(r#", "distortion_model": "equidistant", "d": [0, 0, 0, 0]"#),
+    );
+    let frame = RgbdImages::load(dir.path(), ImageLimit::default()).unwrap();
+    assert_eq!(frame.camera.lens, None);
+}
