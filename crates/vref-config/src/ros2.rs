@@ -4,7 +4,7 @@
 //! section the same way.
 
 use serde::{Deserialize, Serialize};
-use vref_perception::NoiseSource;
+use vref_perception::{DistortionUse, NoiseSource};
 
 /// Environment variable ROS 2 uses for the DDS domain; it overrides
 /// `domain_id` as it does for every ROS 2 node on the machine.
@@ -40,6 +40,11 @@ pub struct Ros2Settings {
     /// frame that shows enough depth and kept, `config` the configured
     /// `[perception]` law.
     pub depth_noise: NoiseSource,
+    /// What a CameraInfo's lens distortion (`distortion_model`, `d`) is
+    /// taken for: `rectify`, the images are raw and are rectified to the
+    /// pinhole camera of K before anything else; `ignore`, they are
+    /// rectified already (`image_rect` topics).
+    pub distortion: DistortionUse,
     /// The headset's camera, the same way (empty: off; the headset's view
     /// then comes through vref-bridge or a feed).
     pub headset_colour_topic: String,
@@ -92,6 +97,7 @@ impl Default for Ros2Settings {
             pointing_confidence: 1.0,
             stamp_tolerance_ms: 20.0,
             depth_noise: NoiseSource::Frame,
+            distortion: DistortionUse::Rectify,
             robot_frame_id: "camera_color_optical_frame".to_owned(),
             headset_frame_id: "headset_camera".to_owned(),
             markers_topic: "/vref/markers".to_owned(),

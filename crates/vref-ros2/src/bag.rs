@@ -17,11 +17,11 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use vref_config::Config;
-use vref_perception::{DepthImage, Intrinsics, LabelImage};
+use vref_perception::{DepthImage, DistortionUse, LabelImage};
 use vref_scene::Side;
 
 use crate::cdr::{CdrError, from_cdr};
-use crate::decode::{self, DecodeError};
+use crate::decode::{self, CameraModel, DecodeError};
 use crate::msg;
 use crate::pairing::Pairer;
 use crate::perceive::{Perceived, Perception};
@@ -188,6 +188,7 @@ pub fn read_bag(path: &Path, side: Side, config: &Config) -> Result<Bag, BagErro
         topics: BagTopics::of(s, side),
         max: config.perception.image_limit(),
         tolerance_ns: (s.stamp_tolerance_ms * 1e6).round() as u64,
+        distortion: s.distortion,
     };
     read_with(path, &settings, &mut perception)
 }
@@ -198,6 +199,8 @@ pub struct BagSettings {
     pub topics: BagTopics,
     pub max: ImageLimit,
     pub tolerance_ns: u64,
+    /// What the CameraInfo's lens distortion is taken for.
+    pub distortion: DistortionUse,
 }
 
 /// Which of the camera's streams a topic is.
@@ -248,7 +251,7 @@ pub fn read_with(
     // First pass: the topics there are, their types, and the camera
     // models (a CameraInfo may come after the first images).
     let mut found: BTreeMap<String, String> = BTreeMap::new();
-    let mut models: Vec<(u64, (Intrinsics, u32, u32))> = Vec::new();
+    let mut models: Vec<(u64, CameraModel)> = Vec::new();
     let mut info_index = 0u64;
     for message in open_stream(path, &bytes)? {
         let message = message.map_err(read_error)?;
@@ -273,7 +276,7 @@ pub fn read_with(
                     source,
                 })?;
             let model = decode::stamp_ns(info.header.stamp)
-                .and_then(|stamp| Ok((stamp, decode::intrinsics(&info)?)))
+                .and_then(|stamp| Ok((stamp, decode::camera_model(&info, settings.distortion)?)))
                 .map_err(|source| BagError::Message {
                     path: path.to_owned(),
                     topic: topic.clone(),
@@ -343,23 +346,17 @@ pub fn read_with(
             summary.paired += 1;
             // The latest camera model at the frame's stamp, else the first.
             let at_or_before = models.partition_point(|(s, _)| *s <= frame.stamp_ns);
-            let Some((_, (intrinsics, info_w, info_h))) =
-                models.get(at_or_before.saturating_sub(1)).copied()
-            else {
+            let Some((_, camera)) = models.get(at_or_before.saturating_sub(1)) else {
                 *summary.skipped.entry("no_camera_info").or_insert(0) += 1;
                 continue;
             };
             let (w, h) = frame.colour.dimensions();
-            if (info_w, info_h) != (0, 0) && (info_w, info_h) != (w, h) {
+            let stated = (camera.width, camera.height);
+            if stated != (0, 0) && stated != (w, h) {
                 *summary.skipped.entry("info_size").or_insert(0) += 1;
                 continue;
             }
-            match perception.process(
-                &frame.colour,
-                &frame.depth,
-                intrinsics,
-                frame.labels.as_ref(),
-            ) {
+            match perception.process(&frame.colour, &frame.depth, camera, frame.labels.as_ref()) {
                 Ok(Perceived { entries, up }) => {
                     summary.objects += entries.len() as u64;
                     frames.push(BagSnapshot {
@@ -517,6 +514,7 @@ mod tests {
             },
             max: Config::default().perception.image_limit(),
             tolerance_ns: 0,
+            distortion: DistortionUse::Rectify,
         };
         let config = Config::default();
         let mut perception = Perception::new(

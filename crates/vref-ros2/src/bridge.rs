@@ -14,7 +14,8 @@ use ros2_client::{
     qos::Durability, request_id::RmwRequestId,
 };
 use vref_config::Config;
-use vref_perception::{DepthImage, ImageLimit, Intrinsics, LabelImage};
+use vref_perception::{DepthImage, DistortionUse, ImageLimit, LabelImage};
+
 use vref_scene::Side;
 use vref_view::{Asked, View};
 use vref_wire::ipc::{
@@ -23,7 +24,7 @@ use vref_wire::ipc::{
 };
 
 use crate::answer::{NewAnswers, referenced_point, trigger_failure, trigger_response};
-use crate::decode::{self, DecodeError, Stream};
+use crate::decode::{self, CameraModel, DecodeError, Stream};
 use crate::markers::{Frames, Scene, headset_pose, markers};
 use crate::matcher_side::MatcherSide;
 use crate::msg::{self, Time};
@@ -126,7 +127,9 @@ struct Camera {
     info: Subscription<msg::CameraInfo>,
     pairer: Pairer<RgbImage, DepthImage, LabelImage>,
     perception: Perception,
-    model: Option<(Intrinsics, u32, u32)>,
+    model: Option<CameraModel>,
+    /// What the CameraInfo's lens distortion is taken for (`[ros2]`).
+    distortion: DistortionUse,
     last_info_ns: Option<u64>,
     publisher: SnapshotPublisher,
     frame_id: String,
@@ -171,7 +174,7 @@ impl Camera {
                             });
                         }
                         *last = Some(stamp);
-                        decode::intrinsics(&info)
+                        decode::camera_model(&info, self.distortion)
                     });
                     match checked {
                         Ok(c) => self.model = Some(c),
@@ -219,15 +222,15 @@ impl Camera {
         let frame_key = key(side, "frame");
         let mut view = None;
         while let Some(frame) = self.pairer.take() {
-            let Some((intrinsics, info_w, info_h)) = self.model else {
+            let Some(camera) = self.model else {
                 counts.skip(frame_key, "no_camera_info", &"no valid CameraInfo yet");
                 continue;
             };
             let (w, h) = frame.colour.dimensions();
-            if (info_w, info_h) != (0, 0) && (info_w, info_h) != (w, h) {
+            if (camera.width, camera.height) != (0, 0) && (camera.width, camera.height) != (w, h) {
                 let e = DecodeError::InfoSize {
-                    info_width: info_w,
-                    info_height: info_h,
+                    info_width: camera.width,
+                    info_height: camera.height,
                     width: w,
                     height: h,
                 };
@@ -237,7 +240,7 @@ impl Camera {
             match self.perception.process(
                 &frame.colour,
                 &frame.depth,
-                intrinsics,
+                &camera,
                 frame.labels.as_ref(),
             ) {
                 Ok(Perceived { entries, up }) => {
@@ -445,6 +448,7 @@ pub fn run(config: &Config) -> Result<Counts, Ros2Error> {
                 config.scene.capacity,
             ),
             model: None,
+            distortion: config.ros2.distortion,
             last_info_ns: None,
             publisher: SnapshotPublisher::new(&node, ipc, side, frame_id)?,
             frame_id: frame_id.to_owned(),

@@ -4,7 +4,10 @@
 //! reason, not a panic or a garbled frame.
 
 use image::{ImageBuffer, Luma, RgbImage};
-use vref_perception::{DepthImage, DepthPixels, FrameError, ImageLimit, Intrinsics, LabelImage};
+use vref_perception::{
+    DepthImage, DepthPixels, Distortion, DistortionUse, FrameError, ImageLimit, Intrinsics,
+    LabelImage, LensError,
+};
 
 use crate::msg::{CameraInfo, Image};
 
@@ -72,6 +75,8 @@ pub enum DecodeError {
     },
     #[error("camera info: {0}")]
     Intrinsics(#[source] FrameError),
+    #[error("camera info: {0}")]
+    Lens(#[source] LensError),
     #[error("camera info is for {info_width}x{info_height}, the colour image is {width}x{height}")]
     InfoSize {
         info_width: u32,
@@ -95,6 +100,7 @@ impl DecodeError {
             DecodeError::Step { .. } => "step",
             DecodeError::DataSize { .. } => "data_size",
             DecodeError::Intrinsics(_) => "intrinsics",
+            DecodeError::Lens(_) => "distortion",
             DecodeError::InfoSize { .. } => "info_size",
             DecodeError::Stamp { .. } => "stamp",
             DecodeError::Backwards { .. } => "stamp_backwards",
@@ -263,12 +269,39 @@ pub fn labels(image: &Image, max: ImageLimit) -> Result<LabelImage, DecodeError>
     }
 }
 
-/// The pinhole intrinsics of a CameraInfo (K), refusing zero, negative and
-/// non-finite focal lengths; its image size, for checking against frames.
-pub fn intrinsics(info: &CameraInfo) -> Result<(Intrinsics, u32, u32), DecodeError> {
+/// A CameraInfo's camera.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraModel {
+    /// K's pinhole intrinsics.
+    pub intrinsics: Intrinsics,
+    /// The lens's distortion (`distortion_model`, `d`), where it states one.
+    pub lens: Option<Distortion>,
+    /// The image size it states (0 x 0: none), for checking frames.
+    pub width: u32,
+    pub height: u32,
+}
+
+/// The camera of a CameraInfo, refusing zero, negative and non-finite
+/// focal lengths and a distortion that cannot be used; with `distortion`
+/// `Ignore` (images rectified already) its lens is left out unread.
+pub fn camera_model(
+    info: &CameraInfo,
+    distortion: DistortionUse,
+) -> Result<CameraModel, DecodeError> {
     let k = &info.k;
     let intrinsics = Intrinsics::new(k[0], k[4], k[2], k[5]).map_err(DecodeError::Intrinsics)?;
-    Ok((intrinsics, info.width, info.height))
+    let lens = match distortion {
+        DistortionUse::Rectify => {
+            Distortion::new(&info.distortion_model, &info.d).map_err(DecodeError::Lens)?
+        }
+        DistortionUse::Ignore => None,
+    };
+    Ok(CameraModel {
+        intrinsics,
+        lens,
+        width: info.width,
+        height: info.height,
+    })
 }
 
 /// The header stamp in nanoseconds since the Unix epoch.
@@ -409,12 +442,59 @@ mod tests {
             height: 480,
             ..CameraInfo::default()
         };
-        let (k, w, h) = intrinsics(&info).unwrap();
-        assert_eq!((k.fx(), k.cy(), w, h), (525.0, 239.5, 640, 480));
+        let c = camera_model(&info, DistortionUse::Rectify).unwrap();
+        let k = c.intrinsics;
+        assert_eq!(
+            (k.fx(), k.cy(), c.width, c.height),
+            (525.0, 239.5, 640, 480)
+        );
+        assert_eq!(c.lens, None);
         info.k[0] = 0.0;
-        assert_eq!(intrinsics(&info).unwrap_err().reason(), "intrinsics");
+        assert_eq!(
+            camera_model(&info, DistortionUse::Rectify)
+                .unwrap_err()
+                .reason(),
+            "intrinsics"
+        );
         info.k[0] = f64::NAN;
-        assert_eq!(intrinsics(&info).unwrap_err().reason(), "intrinsics");
+        assert_eq!(
+            camera_model(&info, DistortionUse::Rectify)
+                .unwrap_err()
+                .reason(),
+            "intrinsics"
+        );
+    }
+
+    #[test]
+    fn camera_info_states_its_lens_or_is_refused_naming_it() {
+        let mut info = CameraInfo {
+            k: [525.0, 0.0, 319.5, 0.0, 525.0, 239.5, 0.0, 0.0, 1.0],
+            distortion_model: "plumb_bob".to_owned(),
+            d: vec![0.0; 5],
+            ..CameraInfo::default()
+        };
+        // What RealSense drivers send for a lens they have corrected.
+        assert_eq!(
+            camera_model(&info, DistortionUse::Rectify).unwrap().lens,
+            None
+        );
+        info.d = vec![-0.1, 0.02, 0.0, 0.0, 0.0];
+        assert_eq!(
+            camera_model(&info, DistortionUse::Rectify).unwrap().lens,
+            Some(Distortion::PlumbBob([-0.1, 0.02, 0.0, 0.0, 0.0]))
+        );
+        info.distortion_model = "equidistant".to_owned();
+        let err = camera_model(&info, DistortionUse::Rectify).unwrap_err();
+        assert_eq!(err.reason(), "distortion");
+        assert!(
+            err.to_string().contains("\"equidistant\" is not supported"),
+            "{err}"
+        );
+        // Images rectified already: the lens is not read.
+        assert_eq!(
+            camera_model(&info, DistortionUse::Ignore).unwrap().lens,
+            None
+        );
     }
 
     #[test]

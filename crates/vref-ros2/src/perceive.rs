@@ -1,14 +1,17 @@
-//! One paired frame to the objects of a robot snapshot: the user's label
-//! image where one came, vref's segmenter otherwise, then the front end.
-//! Buffers are kept from frame to frame.
+//! One paired frame to the objects of a robot snapshot: rectified where
+//! its camera states a lens distortion, the user's label image where one
+//! came, vref's segmenter otherwise, then the front end. Buffers are kept
+//! from frame to frame.
 
-use image::GrayImage;
+use image::{GrayImage, Luma, Rgb};
 use vref_feed::EntryError;
 use vref_perception::{
-    DepthImage, Detection, FrameError, FrontEnd, FrontEndSettings, Intrinsics, LabelImage, Mask,
-    NoiseSource, RgbdFrame, SegmentError, Segmentation, SegmentationSettings, Segmenter,
-    pixel_noise,
+    DepthImage, Detection, Distortion, FrameError, FrontEnd, FrontEndSettings, Intrinsics,
+    LabelImage, LensError, Mask, NoiseSource, Rectifier, RgbdFrame, SegmentError, Segmentation,
+    SegmentationSettings, Segmenter, pixel_noise,
 };
+
+use crate::decode::CameraModel;
 use vref_wire::ObjectEntry;
 
 /// Why a frame gave no snapshot.
@@ -20,6 +23,8 @@ pub enum PerceiveError {
     Frame(#[source] FrameError),
     #[error("an object for the wire")]
     Entry(#[source] EntryError),
+    #[error("rectifying")]
+    Lens(#[source] LensError),
     #[error("no object in the frame ({reason})")]
     NoObjects { reason: String },
     #[error("{found} objects, more than the scene's capacity of {capacity}")]
@@ -39,6 +44,7 @@ impl PerceiveError {
             PerceiveError::Segment(_) => "segment",
             PerceiveError::Frame(_) => "frame",
             PerceiveError::Entry(_) => "entry",
+            PerceiveError::Lens(_) => "distortion",
             PerceiveError::NoObjects { .. } => "no_objects",
             PerceiveError::TooMany { .. } => "too_many_objects",
             PerceiveError::LabelSize { .. } => "label_size",
@@ -63,6 +69,8 @@ pub struct Perception {
     masks: Vec<GrayImage>,
     detections: Vec<Detection>,
     entries: Vec<ObjectEntry>,
+    /// The last lens's rectification map, kept while frames come from it.
+    rectifier: Option<(Intrinsics, Distortion, Rectifier)>,
 }
 
 /// One frame's objects for the wire, and which way is up in its camera
@@ -98,12 +106,49 @@ impl Perception {
             masks: Vec::new(),
             detections: Vec::new(),
             entries: Vec::new(),
+            rectifier: None,
         }
     }
 
     /// The frame's objects as wire entries (track id = label value), or
-    /// why there are none to publish.
+    /// why there are none to publish: its images rectified first where
+    /// `camera` states a lens (the labels too, which are of the raw image
+    /// as well).
     pub fn process(
+        &mut self,
+        colour: &image::RgbImage,
+        depth: &DepthImage,
+        camera: &CameraModel,
+        labels: Option<&LabelImage>,
+    ) -> Result<Perceived<'_>, PerceiveError> {
+        let Some(lens) = camera.lens else {
+            return self.perceive(colour, depth, camera.intrinsics, labels);
+        };
+        let (width, height) = colour.dimensions();
+        let kept = self
+            .rectifier
+            .take()
+            .filter(|(k, l, r)| (*k, *l, r.size()) == (camera.intrinsics, lens, (width, height)));
+        let (_, _, rectifier) = kept.unwrap_or_else(|| {
+            let map = Rectifier::new(&camera.intrinsics, &lens, width, height);
+            (camera.intrinsics, lens, map)
+        });
+        let rectified = (|| {
+            let colour = rectifier.apply(colour, Rgb([0, 0, 0]))?;
+            let depth_pixels = rectifier.apply(depth.pixels(), Luma([0]))?;
+            let labels = labels.map(|l| rectifier.apply(l, Luma([0]))).transpose()?;
+            Ok((colour, depth_pixels, labels))
+        })()
+        .map_err(PerceiveError::Lens);
+        self.rectifier = Some((camera.intrinsics, lens, rectifier));
+        let (colour, depth_pixels, labels) = rectified?;
+        let depth =
+            DepthImage::new(depth_pixels, depth.metres_per_unit()).map_err(PerceiveError::Frame)?;
+        self.perceive(&colour, &depth, camera.intrinsics, labels.as_ref())
+    }
+
+    /// [`Perception::process`] of a pinhole camera's frame.
+    fn perceive(
         &mut self,
         colour: &image::RgbImage,
         depth: &DepthImage,
@@ -290,6 +335,15 @@ mod tests {
     /// A table 0.6 m below a camera looking down at it, with a box 6 cm
     /// tall on it (its top only: the sides are depth jumps), all grey.
     fn table_with_a_box(up: [f64; 3]) -> (image::RgbImage, DepthImage, LabelImage) {
+        table_with_a_box_at(up, 280..360, 260..330)
+    }
+
+    /// [`table_with_a_box`] with the box's top seen at pixels `us` x `vs`.
+    fn table_with_a_box_at(
+        up: [f64; 3],
+        us: std::ops::Range<u32>,
+        vs: std::ops::Range<u32>,
+    ) -> (image::RgbImage, DepthImage, LabelImage) {
         let (w, h, f) = (640u32, 480u32, 525.0);
         let mut depth = vref_perception::DepthPixels::new(w, h);
         let mut labels = LabelImage::new(w, h);
@@ -297,7 +351,7 @@ mod tests {
             for u in 0..w {
                 let ray = [(f64::from(u) - 319.5) / f, (f64::from(v) - 239.5) / f, 1.0];
                 let along: f64 = ray.iter().zip(&up).map(|(a, b)| a * b).sum();
-                let on_box = (280..360).contains(&u) && (260..330).contains(&v);
+                let on_box = us.contains(&u) && vs.contains(&v);
                 let below = if on_box { 0.6 - 0.06 } else { 0.6 };
                 let z = -below / along;
                 depth.put_pixel(u, v, Luma([(z * 1000.0).round() as u16]));
@@ -310,6 +364,91 @@ mod tests {
         (colour, DepthImage::new(depth, 0.001).unwrap(), labels)
     }
 
+    /// The camera of [`table_with_a_box`]'s frames.
+    fn pinhole() -> CameraModel {
+        CameraModel {
+            intrinsics: Intrinsics::new(525.0, 525.0, 319.5, 239.5).unwrap(),
+            lens: None,
+            width: 640,
+            height: 480,
+        }
+    }
+
+    /// `image` of the pinhole camera as a camera of the same intrinsics
+    /// with `lens` records it: each raw pixel takes the pinhole pixel its
+    /// ray passes through (the lens inverted by fixed-point iteration, as
+    /// OpenCV's `undistortPoints` does).
+    fn recorded<P: image::Pixel>(
+        image: &image::ImageBuffer<P, Vec<P::Subpixel>>,
+        lens: &Distortion,
+        empty: P,
+    ) -> image::ImageBuffer<P, Vec<P::Subpixel>> {
+        let k = pinhole().intrinsics;
+        let (w, h) = image.dimensions();
+        image::ImageBuffer::from_fn(w, h, |u, v| {
+            let xd = (f64::from(u) - k.cx()) / k.fx();
+            let yd = (f64::from(v) - k.cy()) / k.fy();
+            let (mut x, mut y) = (xd, yd);
+            for _ in 0..50 {
+                let (dx, dy) = lens.distort(x, y);
+                (x, y) = (x + xd - dx, y + yd - dy);
+            }
+            let (pu, pv) = ((k.fx() * x + k.cx()).round(), (k.fy() * y + k.cy()).round());
+            if (0.0..f64::from(w)).contains(&pu) && (0.0..f64::from(h)).contains(&pv) {
+                *image.get_pixel(pu as u32, pv as u32)
+            } else {
+                empty
+            }
+        })
+    }
+
+    /// A raw frame of a camera whose lens bends rays is rectified before
+    /// anything else when its CameraInfo states the lens: a box near the
+    /// image's corner comes out where the pinhole camera puts it, and a
+    /// centimetre off when the lens is not stated (the lens shrinks rays
+    /// there by about 3.7 %, and the box is 0.33 m off the axis).
+    #[test]
+    fn a_raw_frame_is_rectified_before_it_is_perceived() {
+        let (colour, depth, labels) = table_with_a_box_at([0.0, -0.6, -0.8], 540..600, 400..450);
+        let lens = Distortion::PlumbBob([-0.12, 0.05, 0.0, 0.0, 0.0]);
+        let raw_depth = recorded(depth.pixels(), &lens, Luma([0]));
+        let raw_depth = DepthImage::new(raw_depth, depth.metres_per_unit()).unwrap();
+        let raw_colour = recorded(&colour, &lens, image::Rgb([0, 0, 0]));
+        let raw_labels = recorded(&labels, &lens, Luma([0]));
+        let mut perception = Perception::new(
+            vref_perception::PerceptionSettings::default().robot(),
+            SegmentationSettings::default(),
+            NoiseSource::Config,
+            64,
+        );
+        let mut place = |colour, depth, camera: CameraModel, labels| {
+            let found = perception
+                .process(colour, depth, &camera, Some(labels))
+                .unwrap();
+            assert_eq!(found.entries.len(), 1);
+            found.entries[0].position.map(f64::from)
+        };
+        let truth = place(&colour, &depth, pinhole(), &labels);
+        let with_lens = CameraModel {
+            lens: Some(lens),
+            ..pinhole()
+        };
+        let rectified = place(&raw_colour, &raw_depth, with_lens, &raw_labels);
+        let unrectified = place(&raw_colour, &raw_depth, pinhole(), &raw_labels);
+        let off = |p: [f64; 3]| -> f64 {
+            p.iter()
+                .zip(truth)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        assert!(off(rectified) < 0.005, "{rectified:?} against {truth:?}");
+        assert!(
+            off(unrectified) > 0.008,
+            "{unrectified:?} against {truth:?}"
+        );
+    }
+
     /// Where vref segmented the frame, the supporting plane's normal is
     /// the frame's up vector; a frame with its own labels has none.
     #[test]
@@ -317,22 +456,20 @@ mod tests {
         let norm = (1.0f64 + 0.64).sqrt();
         let up = [0.0, -1.0 / norm, -0.8 / norm];
         let (colour, depth, labels) = table_with_a_box(up);
-        let intrinsics = Intrinsics::new(525.0, 525.0, 319.5, 239.5).unwrap();
+        let camera = pinhole();
         let mut perception = Perception::new(
             vref_perception::PerceptionSettings::default().robot(),
             SegmentationSettings::default(),
             NoiseSource::Config,
             64,
         );
-        let found = perception
-            .process(&colour, &depth, intrinsics, None)
-            .unwrap();
+        let found = perception.process(&colour, &depth, &camera, None).unwrap();
         assert_eq!(found.entries.len(), 1);
         let got = found.up.unwrap().map(f64::from);
         let cos: f64 = got.iter().zip(&up).map(|(a, b)| a * b).sum();
         assert!(cos > 0.9995, "up {got:?} against {up:?}");
         let given = perception
-            .process(&colour, &depth, intrinsics, Some(&labels))
+            .process(&colour, &depth, &camera, Some(&labels))
             .unwrap();
         assert_eq!(given.entries.len(), 1);
         assert_eq!(given.up, None);
@@ -345,7 +482,7 @@ mod tests {
     #[test]
     fn the_cameras_noise_is_measured_on_its_first_frame_with_depth() {
         let (colour, depth, _) = table_with_a_box([0.0, -1.0, 0.0]);
-        let intrinsics = Intrinsics::new(525.0, 525.0, 319.5, 239.5).unwrap();
+        let camera = pinhole();
         let (w, h) = colour.dimensions();
         let bare = DepthImage::new(vref_perception::DepthPixels::new(w, h), 0.001).unwrap();
         let headset = vref_perception::PerceptionSettings::default().human();
@@ -353,22 +490,20 @@ mod tests {
         let perception =
             |noise| Perception::new(headset, SegmentationSettings::default(), noise, 64);
         let mut measuring = perception(NoiseSource::Frame);
-        assert!(measuring.process(&colour, &bare, intrinsics, None).is_err());
+        assert!(measuring.process(&colour, &bare, &camera, None).is_err());
         assert_eq!(measuring.pixel_law(), configured);
-        measuring
-            .process(&colour, &depth, intrinsics, None)
-            .unwrap();
+        measuring.process(&colour, &depth, &camera, None).unwrap();
         let measured = measuring.pixel_law();
         assert!(
             measured.c > 0.0 && measured.c < configured.c / 4.0,
             "{measured:?}"
         );
-        let _ = measuring.process(&colour, &bare, intrinsics, None);
+        let _ = measuring.process(&colour, &bare, &camera, None);
         assert_eq!(measuring.pixel_law(), measured);
         let mut configured_only = perception(NoiseSource::Config);
         // Set for the rendered headset, the segmenter may well find
         // nothing here; what matters is the law it kept.
-        let _ = configured_only.process(&colour, &depth, intrinsics, None);
+        let _ = configured_only.process(&colour, &depth, &camera, None);
         assert_eq!(configured_only.pixel_law(), configured);
     }
 }
