@@ -45,7 +45,7 @@ pub use args::{FeedArgs, SourceSpec};
 pub use bop::{BopGesture, BopImageSource, BopSceneSource, BopWorld};
 pub use error::{EntryError, RunError, SetupError};
 pub use feed::{BagReader, BagSnapshot, Feed, MeasuredBag, Published};
-pub use noise::frame_law;
+pub use noise::{frame_law, warn_unread};
 pub use publication::{Due, Publication, Ray, Target};
 pub use rgbd::RgbdSummary;
 pub use role::Role;

@@ -56,8 +56,14 @@ pub(crate) fn load_views(
     let mut summary = RgbdSummary::default();
     let mut views = Vec::with_capacity(frames.len());
     let mut detections = Vec::new();
+    let mut told = Vec::new();
     for (k, (name, path)) in frames.iter().enumerate() {
         let images = RgbdImages::load(path, perception.image_limit()).map_err(folder)?;
+        // Said once for the frames that share a camera file.
+        if k == 0 || images.unread_keys != told {
+            crate::warn_unread(&images.unread_keys, name);
+            told.clone_from(&images.unread_keys);
+        }
         // Each frame's segmenter and stated errors are set for the noise
         // its camera shows (or is configured with).
         let mut settings = configured;

@@ -6,7 +6,8 @@
 //!   (an instance label image, 8- or 16-bit grey, 0 = background, each
 //!   other value one object: what `vref segment` writes);
 //! - `camera.json` (`fx`, `fy`, `cx`, `cy`, optional `width` and `height`,
-//!   `depth_scale_mm`, millimetres per depth unit, default 1; optional
+//!   `depth_scale_mm`, millimetres per depth unit, default 1, also read
+//!   under BOP's name for it, `depth_scale`; optional
 //!   `distortion_model` and `d`, the lens as ROS's CameraInfo states it,
 //!   [`crate::lens`]) is the nearest one: in the frame folder, else the folder above, else the one
 //!   above that. So a single frame, `DIR/camera.json` beside `DIR/NNNN/`
@@ -41,6 +42,9 @@ pub const DEPTH_FILE: &str = "depth.png";
 pub const MASKS_FILE: &str = "masks.png";
 /// The camera file.
 pub const CAMERA_FILE: &str = "camera.json";
+/// The keys a camera file's values are read from.
+pub const CAMERA_KEYS: &str =
+    "fx, fy, cx, cy, width, height, depth_scale_mm (or depth_scale), distortion_model, d";
 
 /// Why a frame folder or camera file cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -71,6 +75,10 @@ pub enum FolderError {
         #[source]
         source: crate::LensError,
     },
+    #[error(
+        "{path}: depth_scale_mm is {mm} but depth_scale (BOP's name for the same) is {bop}: give one"
+    )]
+    DepthScales { path: PathBuf, mm: f64, bop: f64 },
     #[error("{path}: give both width and height, or neither")]
     HalfSize { path: PathBuf },
     #[error("no camera file for {frame}: none of {tried} exists")]
@@ -116,21 +124,29 @@ struct CameraFile {
     cy: f64,
     width: Option<u32>,
     height: Option<u32>,
-    #[serde(default = "one")]
-    depth_scale_mm: f64,
+    depth_scale_mm: Option<f64>,
+    /// BOP's name for `depth_scale_mm` (its `camera.json` and
+    /// `scene_camera.json`: millimetres per depth unit).
+    depth_scale: Option<f64>,
     #[serde(default)]
     distortion_model: String,
     #[serde(default)]
     d: Vec<f64>,
-}
-
-fn one() -> f64 {
-    1.0
+    /// Keys this file has that are not read, to be told.
+    #[serde(flatten)]
+    unread: std::collections::BTreeMap<String, serde::de::IgnoredAny>,
 }
 
 impl Camera {
     /// Reads a camera file, refusing values a camera cannot have.
     pub fn load(path: &Path) -> Result<Self, FolderError> {
+        Self::read(path).map(|(camera, _)| camera)
+    }
+
+    /// [`Camera::load`], with the keys of the file that were not read (a
+    /// misspelt `depth_scale_mm` would otherwise leave its default
+    /// unnoticed): a program says them.
+    pub fn read(path: &Path) -> Result<(Self, Vec<String>), FolderError> {
         let text = std::fs::read_to_string(path).map_err(|source| FolderError::Io {
             path: path.to_owned(),
             source,
@@ -140,10 +156,21 @@ impl Camera {
                 path: path.to_owned(),
                 message: e.to_string(),
             })?;
+        let depth_scale_mm = match (file.depth_scale_mm, file.depth_scale) {
+            (Some(mm), Some(bop)) if mm != bop => {
+                return Err(FolderError::DepthScales {
+                    path: path.to_owned(),
+                    mm,
+                    bop,
+                });
+            }
+            (Some(scale), _) | (None, Some(scale)) => scale,
+            (None, None) => 1.0,
+        };
         for (name, value) in [
             ("fx", file.fx),
             ("fy", file.fy),
-            ("depth_scale_mm", file.depth_scale_mm),
+            ("depth_scale_mm", depth_scale_mm),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(FolderError::CameraValue {
@@ -174,12 +201,13 @@ impl Camera {
                 source,
             }
         })?;
-        Ok(Self {
+        let camera = Self {
             intrinsics,
-            metres_per_unit: file.depth_scale_mm / 1000.0,
+            metres_per_unit: depth_scale_mm / 1000.0,
             size,
             lens,
-        })
+        };
+        Ok((camera, file.unread.into_keys().collect()))
     }
 }
 
@@ -275,14 +303,21 @@ pub struct RgbdImages {
     pub depth: DepthImage,
     /// The folder's own masks, where it has them.
     pub masks: Option<LabelImage>,
+    /// Keys of the camera file that were not read ([`Camera::read`]);
+    /// none where the camera was given.
+    pub unread_keys: Vec<String>,
 }
 
 impl RgbdImages {
     /// Loads the frame folder `dir` with the nearest camera file; every
     /// image larger than `limit` is refused before it is decoded.
     pub fn load(dir: &Path, limit: ImageLimit) -> Result<Self, FolderError> {
-        let camera = Camera::load(&camera_file_of(dir)?)?;
-        Self::load_with(dir, camera, limit)
+        let (camera, unread_keys) = Camera::read(&camera_file_of(dir)?)?;
+        let images = Self::load_with(dir, camera, limit)?;
+        Ok(Self {
+            unread_keys,
+            ..images
+        })
     }
 
     /// Loads the frame folder `dir` taken by `camera`.
@@ -387,6 +422,7 @@ impl RgbdImages {
             colour,
             depth,
             masks,
+            unread_keys: Vec::new(),
         })
     }
 }
@@ -417,5 +453,53 @@ impl WidenLabels for DynamicImage {
         LabelImage::from_fn(w, h, |u, v| {
             image::Luma([u16::from(grey.get_pixel(u, v).0[0])])
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use super::*;
+
+    fn read(text: &str) -> Result<(Camera, Vec<String>), FolderError> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(CAMERA_FILE);
+        std::fs::write(&path, text).unwrap();
+        Camera::read(&path)
+    }
+
+    const K: &str = r#""fx": 500, "fy": 500, "cx": 320, "cy": 240"#;
+
+    /// The depth unit is `depth_scale_mm`, or BOP's `depth_scale` (the
+    /// same: millimetres per unit); both, differing, is refused; a key
+    /// not read is reported, so that a misspelt one is seen.
+    #[test]
+    fn the_depth_unit_is_read_under_either_name_and_other_keys_are_reported() {
+        let unit = |text: &str| read(text).unwrap().0.metres_per_unit;
+        assert_eq!(unit(&format!("{{{K}}}")), 0.001);
+        assert_eq!(unit(&format!(r#"{{{K}, "depth_scale_mm": 0.1}}"#)), 0.0001);
+        assert_eq!(unit(&format!(r#"{{{K}, "depth_scale": 0.1}}"#)), 0.0001);
+        let both = format!(r#"{{{K}, "depth_scale": 0.1, "depth_scale_mm": 0.1}}"#);
+        assert_eq!(unit(&both), 0.0001);
+        let differ = format!(r#"{{{K}, "depth_scale": 0.1, "depth_scale_mm": 1}}"#);
+        let err = read(&differ).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                FolderError::DepthScales {
+                    mm: 1.0,
+                    bop: 0.1,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert!(err.to_string().contains("camera.json: depth_scale_mm is 1"));
+        let (_, unread) =
+            read(&format!(r#"{{{K}, "depth_scal_mm": 0.1, "preset": "x"}}"#)).unwrap();
+        assert_eq!(unread, ["depth_scal_mm", "preset"]);
+        let (_, unread) = read(&format!("{{{K}}}")).unwrap();
+        assert!(unread.is_empty());
     }
 }

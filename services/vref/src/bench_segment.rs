@@ -132,7 +132,8 @@ pub fn segment(args: &BenchSegmentArgs) -> Result<(), Failure> {
         Some(path) => path.clone(),
         None => camera_file_of(&args.dataset).bad_input()?,
     };
-    let camera = Camera::load(&camera_path).bad_input()?;
+    let (camera, unread) = Camera::read(&camera_path).bad_input()?;
+    vref_feed::warn_unread(&unread, &camera_path.display().to_string());
     let mut frames: Vec<(String, RgbdImages)> = Vec::new();
     for (name, dir) in frame_dirs(&args.dataset).bad_input()? {
         // The scene's ground-truth labels load as its masks: checked

@@ -64,6 +64,7 @@ pub fn run(args: &MatchArgs) -> Result<(), Failure> {
         let images = RgbdImages::load(dir, limit)
             .with_context(|| format!("the {who}'s frame {}", dir.display()))
             .bad_input()?;
+        vref_feed::warn_unread(&images.unread_keys, who);
         // Each camera's segmenter is set for its own depth noise.
         settings.noise.pixel =
             vref_feed::frame_law(args.noise, &images.depth, settings.noise.pixel, who);

@@ -66,7 +66,8 @@ pub fn run(args: &SegmentArgs) -> Result<(), Failure> {
         (None, Some(dir)) => camera_file_of(dir).bad_input()?,
         (None, None) => return Err(anyhow!("--camera: give the camera file")).bad_input(),
     };
-    let camera = Camera::load(&camera_path).bad_input()?;
+    let (camera, unread) = Camera::read(&camera_path).bad_input()?;
+    vref_feed::warn_unread(&unread, &camera_path.display().to_string());
     for (name, rgb, depth, out, over) in jobs {
         let images =
             RgbdImages::load_files(&rgb, &depth, None, camera, config.perception.image_limit())
