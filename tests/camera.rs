@@ -248,7 +248,6 @@ fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
     let dir = tempfile::tempdir().unwrap();
     let defaults = dir.path().join("defaults.toml");
     std::fs::write(&defaults, "").unwrap();
-    let object_of = |l: u16| if l >= 20 { l / 10 } else { 0 };
     let (mut ok, mut with_object) = (0, 0);
     for scene in ["learn25", "learn38"] {
         let robot = dir.path().join(scene).join("robot");
@@ -290,7 +289,9 @@ fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
         for line in json_lines(&run.stdout) {
             let person = line["human_label"].as_u64().unwrap() as u16;
             let object = majority(&human_labels, person, 0.5, |at| {
-                view.source[at].map_or(0, |s| object_of(objects.as_raw()[s as usize]))
+                view.source[at].map_or(0, |s| {
+                    vref_testkit::osd_object(objects.as_raw()[s as usize])
+                })
             });
             with_object += usize::from(object.is_some());
             if line["status"] != "ok" {
@@ -299,7 +300,7 @@ fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
             ok += 1;
             let named = line["robot_label"].as_u64().unwrap() as u16;
             let named = majority(&robot_labels, named, 0.5, |at| {
-                object_of(objects.as_raw()[at])
+                vref_testkit::osd_object(objects.as_raw()[at])
             });
             assert!(
                 object.is_some() && named == object,

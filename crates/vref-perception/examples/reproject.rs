@@ -105,7 +105,6 @@ fn score(out: &Path) -> Result<()> {
     let human = labels(&out.join("labels/human.png"))?;
     let objects = out.join(OBJECTS_FILE);
     let objects = objects.is_file().then(|| labels(&objects)).transpose()?;
-    let object_of = |l: u16| if l >= 20 { l / 10 } else { 0 };
     let source = |at: usize| view.source.get(at).copied().flatten();
     let truth = |label: u16| {
         majority(&human, label, MAJORITY, |at| {
@@ -115,13 +114,15 @@ fn score(out: &Path) -> Result<()> {
     let human_object = |label: u16| {
         let objects = objects.as_ref()?;
         majority(&human, label, MAJORITY, |at| {
-            source(at).map_or(0, |s| object_of(objects.as_raw()[s as usize]))
+            source(at).map_or(0, |s| {
+                vref_testkit::osd_object(objects.as_raw()[s as usize])
+            })
         })
     };
     let robot_object = |label: u16| {
         let objects = objects.as_ref()?;
         majority(&robot, label, MAJORITY, |at| {
-            object_of(objects.as_raw()[at])
+            vref_testkit::osd_object(objects.as_raw()[at])
         })
     };
     let text = std::fs::read_to_string(out.join("answers.jsonl"))?;

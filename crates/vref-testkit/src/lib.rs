@@ -42,9 +42,25 @@ pub fn data(relative: &str) -> PathBuf {
     data_dir().join(relative)
 }
 
+/// The physical object of an OSD ground-truth label (`label.png`; the
+/// scheme of `osd/PROVENANCE.md`): parts of the k-th object are labelled
+/// `10k` to `10k + 9` from 20 on; lower labels (no reading, the table)
+/// are no object, 0.
+pub fn osd_object(label: u16) -> u16 {
+    if label >= 20 { label / 10 } else { 0 }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn osd_labels_name_their_objects() {
+        assert_eq!(
+            [0, 5, 19, 20, 29, 30, 47].map(osd_object),
+            [0, 0, 0, 2, 2, 3, 4]
+        );
+    }
 
     #[test]
     fn the_default_is_beside_the_repository() {
