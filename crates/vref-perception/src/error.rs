@@ -72,7 +72,9 @@ pub enum LoadError {
         path: PathBuf,
         found: image::ColorType,
     },
-    #[error("{path}: a colour image must be 8-bit RGB or grey, this one is {found:?}")]
+    #[error(
+        "{path}: a colour image must be RGB (8- or 16-bit, alpha dropped) or 8-bit grey, this one is {found:?}"
+    )]
     NotColour {
         path: PathBuf,
         found: image::ColorType,

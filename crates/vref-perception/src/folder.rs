@@ -1,7 +1,7 @@
 //! RGB-D frames kept as folders, the layout `vref segment`, `vref match`
 //! and the feeds' `rgbd:` source read:
 //!
-//! - a frame folder holds `rgb.png` or `rgb.jpg` (8-bit RGB or grey), `depth.png`
+//! - a frame folder holds `rgb.png` or `rgb.jpg` (RGB or grey, [`load_colour`]), `depth.png`
 //!   (16-bit, registered to the colour image) and optionally `masks.png`
 //!   (an instance label image, 8- or 16-bit grey, 0 = background, each
 //!   other value one object: what `vref segment` writes);

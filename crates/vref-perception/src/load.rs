@@ -108,12 +108,18 @@ fn ends_a_jpeg(path: &Path) -> Result<bool, LoadError> {
     Ok(tail.windows(2).any(|w| w == [0xFF, 0xD9]))
 }
 
-/// A colour image (8-bit RGB; 8-bit grey is expanded to RGB), refused
-/// before decoding when larger than `limit`.
+/// A colour image as 8-bit RGB, refused before decoding when larger than
+/// `limit`: 8-bit grey is expanded, an alpha channel dropped (tools save
+/// captures as RGBA) and 16-bit colour scaled to 8 bits. 16-bit grey is
+/// refused: it is a depth image more likely than a colour one.
 pub fn load_colour(path: &Path, limit: ImageLimit) -> Result<RgbImage, LoadError> {
     match decode(path, limit)? {
         DynamicImage::ImageRgb8(image) => Ok(image),
-        grey @ DynamicImage::ImageLuma8(_) => Ok(grey.to_rgb8()),
+        colour @ (DynamicImage::ImageLuma8(_)
+        | DynamicImage::ImageLumaA8(_)
+        | DynamicImage::ImageRgba8(_)
+        | DynamicImage::ImageRgb16(_)
+        | DynamicImage::ImageRgba16(_)) => Ok(colour.to_rgb8()),
         other => Err(LoadError::NotColour {
             path: path.to_owned(),
             found: other.color(),

@@ -287,3 +287,45 @@ fn the_cap_setting_is_checked() {
     }
     assert!(PerceptionSettings::default().validate().is_ok());
 }
+
+/// Colour as capture tools save it: RGBA loses its alpha, 16-bit RGB is
+/// scaled to 8 bits, grey is expanded; 16-bit grey (a depth image given
+/// as colour) is refused naming the file.
+#[test]
+fn colour_images_with_alpha_or_16_bits_load_as_rgb() {
+    let dir = tempfile::tempdir().unwrap();
+    let limit = ImageLimit::default();
+    let path = dir.path().join("rgba.png");
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([10, 20, 30, 128]))
+        .save(&path)
+        .unwrap();
+    assert_eq!(
+        load_colour(&path, limit).unwrap().get_pixel(1, 1).0,
+        [10, 20, 30]
+    );
+    let path = dir.path().join("rgb16.png");
+    image::ImageBuffer::<Rgb<u16>, Vec<u16>>::from_pixel(2, 2, Rgb([0, 257 * 100, 65535]))
+        .save(&path)
+        .unwrap();
+    assert_eq!(
+        load_colour(&path, limit).unwrap().get_pixel(0, 0).0,
+        [0, 100, 255]
+    );
+    let path = dir.path().join("grey.png");
+    GrayImage::from_pixel(2, 2, Luma([7])).save(&path).unwrap();
+    assert_eq!(
+        load_colour(&path, limit).unwrap().get_pixel(0, 1).0,
+        [7, 7, 7]
+    );
+    let path = dir.path().join("depth.png");
+    image::ImageBuffer::<Luma<u16>, Vec<u16>>::from_pixel(2, 2, Luma([900]))
+        .save(&path)
+        .unwrap();
+    let err = load_colour(&path, limit).unwrap_err();
+    assert!(matches!(err, LoadError::NotColour { .. }), "{err}");
+    assert!(
+        err.to_string()
+            .contains("depth.png: a colour image must be"),
+        "{err}"
+    );
+}
