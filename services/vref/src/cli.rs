@@ -98,15 +98,18 @@ pub enum Command {
     Segment(SegmentArgs),
     /// Match two RGB-D frames, the robot's and the person's: each a frame
     /// folder (rgb.png, depth.png, optional masks.png, the nearest
-    /// camera.json with fx, fy, cx, cy, width, height, depth_scale_mm),
-    /// segmented where it has no masks, measured, and matched by the
-    /// [matcher] method (default rigid). Prints one answer per person-side
-    /// object, with the status the live matcher would give it.
+    /// camera.json with fx, fy, cx, cy, width, height, depth_scale_mm and,
+    /// for a lens that bends rays, distortion_model and d as ROS's
+    /// CameraInfo: the frame is then rectified first, and labels and
+    /// pixels are of the rectified image), segmented where it has no
+    /// masks, measured, and matched by the [matcher] method (default
+    /// rigid). Prints one answer per person-side object, with the status
+    /// the live matcher would give it.
     ///
     /// Exit codes: 0 answered (whatever the statuses), 1 failure while
     /// running, 2 bad input (a file missing or unreadable, sizes that
     /// differ, depth not 16-bit or without any reading, intrinsics not
-    /// finite and positive).
+    /// finite and positive, a lens model it cannot rectify).
     Match(MatchArgs),
     /// Benchmarks that print percentiles (never pass/fail).
     #[command(subcommand)]
