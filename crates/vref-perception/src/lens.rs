@@ -280,6 +280,17 @@ mod tests {
         // With k1 positive the corners' rays fall outside the raw image.
         assert_eq!(rect.get_pixel(0, 0).0[0], 0);
         assert_eq!(rect.get_pixel(79, 59).0[0], 0);
+        // Absurd coefficients (rays sent to infinity, a denominator through
+        // zero) leave holes or odd pixels, never a panic or a wrapped index.
+        for lens in [
+            Distortion::PlumbBob([1e300, 1e300, 0.0, 0.0, 0.0]),
+            Distortion::Rational([0.0, 0.0, 0.0, 0.0, 0.0, -4.0, 0.0, 0.0]),
+        ] {
+            let rect = Rectifier::new(&intrinsics, &lens, 80, 60)
+                .apply(&raw, Luma([0]))
+                .unwrap();
+            assert_eq!(rect.get_pixel(40, 30).0[0], 30 * 80 + 40);
+        }
         let other = ImageBuffer::from_pixel(10, 10, Luma([1u16]));
         assert_eq!(
             rectifier.apply(&other, Luma([0])).unwrap_err(),
