@@ -233,18 +233,18 @@ fn files_that_cannot_be_a_camera_are_refused_naming_why() {
         &["has message encoding \"json\"; only cdr (ROS 2's) is read"],
     );
 
-    let rgba = write_bag(
+    let yuv = write_bag(
         &scene,
-        &dir.join("rgba"),
-        &["--labels", "--frames", "2", "--colour-encoding", "rgba8"],
+        &dir.join("yuv"),
+        &["--labels", "--frames", "2", "--colour-encoding", "yuv422"],
     );
     refused(
         &mut h,
         "encoding",
-        rgba.to_str().unwrap(),
+        yuv.to_str().unwrap(),
         &[
             "message 0 on /camera/camera/color/image_raw",
-            "encoding \"rgba8\" is not supported for colour (supported: rgb8, bgr8)",
+            "encoding \"yuv422\" is not supported for colour (supported: rgb8, bgr8, rgba8, bgra8)",
         ],
     );
 }

@@ -70,6 +70,9 @@ def main() -> int:
         colour_pixels = rgb[:, :, ::-1]
     elif a.colour_encoding == "rgba8":
         colour_pixels = np.concatenate([rgb, np.full((h, w, 1), 255, np.uint8)], axis=2)
+    elif a.colour_encoding == "yuv422":
+        # Two bytes a pixel; only the encoding's name matters to a refusal.
+        colour_pixels = rgb[:, :, :2].copy()
     else:
         colour_pixels = rgb
     if a.depth_encoding == "32FC1":

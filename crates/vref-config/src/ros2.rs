@@ -24,7 +24,7 @@ pub struct Ros2Settings {
     /// The node's name and namespace as `ros2 node list` shows them.
     pub node_name: String,
     pub node_namespace: String,
-    /// The robot camera: colour (rgb8, bgr8), registered depth (16UC1 in
+    /// The robot camera: colour (rgb8, bgr8, rgba8, bgra8), registered depth (16UC1 in
     /// millimetres, 32FC1 in metres) and the colour camera's CameraInfo.
     pub colour_topic: String,
     pub depth_topic: String,

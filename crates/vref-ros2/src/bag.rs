@@ -591,14 +591,14 @@ mod tests {
             &p,
             &[
                 ("/i", CAMERA_INFO, "cdr", info()),
-                ("/c", IMAGE, "cdr", image("rgba8", 4)),
+                ("/c", IMAGE, "cdr", image("yuv422", 2)),
                 ("/d", IMAGE, "cdr", image("16UC1", 2)),
             ],
         );
         let e = read(&p).unwrap_err();
         assert_eq!(e.reason(), "encoding");
         assert!(
-            vref_logging::with_causes(&e).contains("message 0 on /c: encoding \"rgba8\""),
+            vref_logging::with_causes(&e).contains("message 0 on /c: encoding \"yuv422\""),
             "{}",
             vref_logging::with_causes(&e)
         );

@@ -151,29 +151,32 @@ fn rows(image: &Image, step: usize, row_bytes: usize) -> impl Iterator<Item = &[
     image.data.chunks_exact(step).map(move |r| &r[..row_bytes])
 }
 
-/// A colour image (rgb8 or bgr8).
+/// A colour image (rgb8, bgr8, or rgba8 and bgra8 with the alpha dropped,
+/// as ZED cameras publish).
 pub fn colour(image: &Image, max: ImageLimit) -> Result<RgbImage, DecodeError> {
-    let bgr = match image.encoding.as_str() {
-        "rgb8" => false,
-        "bgr8" => true,
+    let (bgr, bytes) = match image.encoding.as_str() {
+        "rgb8" => (false, 3),
+        "bgr8" => (true, 3),
+        "rgba8" => (false, 4),
+        "bgra8" => (true, 4),
         other => {
             return Err(DecodeError::Encoding {
                 stream: "colour",
                 found: other.to_owned(),
-                supported: "rgb8, bgr8",
+                supported: "rgb8, bgr8, rgba8, bgra8",
             });
         }
     };
-    let step = check_layout(image, 3, max)?;
-    let row_bytes = image.width as usize * 3;
-    let mut pixels = Vec::with_capacity(row_bytes * image.height as usize);
+    let step = check_layout(image, bytes, max)?;
+    let row_bytes = image.width as usize * bytes as usize;
+    let mut pixels = Vec::with_capacity(image.width as usize * 3 * image.height as usize);
     for row in rows(image, step, row_bytes) {
-        if bgr {
-            for px in row.chunks_exact(3) {
+        for px in row.chunks_exact(bytes as usize) {
+            if bgr {
                 pixels.extend_from_slice(&[px[2], px[1], px[0]]);
+            } else {
+                pixels.extend_from_slice(&px[..3]);
             }
-        } else {
-            pixels.extend_from_slice(row);
         }
     }
     ImageBuffer::from_raw(image.width, image.height, pixels).ok_or(DecodeError::DataSize {
@@ -348,10 +351,23 @@ mod tests {
     }
 
     #[test]
+    fn rgba8_and_bgra8_lose_their_alpha() {
+        // Two pixels per row, a step of 12 (4 bytes of padding).
+        let data = vec![1, 2, 3, 4, 5, 6, 7, 8, 99, 99, 99, 99];
+        let c = colour(&img("rgba8", 2, 1, 12, data.clone()), MAX).unwrap();
+        assert_eq!(c.as_raw(), &vec![1, 2, 3, 5, 6, 7]);
+        let c = colour(&img("bgra8", 2, 1, 12, data), MAX).unwrap();
+        assert_eq!(c.as_raw(), &vec![3, 2, 1, 7, 6, 5]);
+        // A step too short for four bytes a pixel.
+        let err = colour(&img("rgba8", 2, 1, 6, vec![0; 6]), MAX).unwrap_err();
+        assert_eq!(err.reason(), "step");
+    }
+
+    #[test]
     fn unsupported_encoding_is_named() {
-        let err = colour(&img("rgba8", 1, 1, 4, vec![0; 4]), MAX).unwrap_err();
+        let err = colour(&img("yuv422", 1, 1, 2, vec![0; 2]), MAX).unwrap_err();
         assert_eq!(err.reason(), "encoding");
-        assert!(err.to_string().contains("rgba8"));
+        assert!(err.to_string().contains("yuv422"));
         let err = depth(&img("8UC1", 1, 1, 1, vec![0]), MAX).unwrap_err();
         assert_eq!(err.reason(), "encoding");
     }

@@ -89,7 +89,7 @@ def camera_scenario(c):
 
     # 3. Malformed messages, then good frames again.
     now = node.get_clock().now().to_msg()
-    colour_pub.publish(image(now, "rgba8", rgb, w * 3))                 # encoding
+    colour_pub.publish(image(now, "yuv422", rgb, w * 3))                # encoding
     colour_pub.publish(image(now, "rgb8", rgb, w * 3 - 1))             # step too short
     colour_pub.publish(image(now, "rgb8", rgb[: w * 3 * (h - 1)], w * 3))  # data too short
     colour_pub.publish(image(now, "rgb8", rgb[:30], 60000, 20000, 20000))  # 20000x20000
