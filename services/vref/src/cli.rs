@@ -94,7 +94,9 @@ pub enum Command {
     /// the OSD layout (DIR/SCENE/{rgb,depth}.png, camera DIR/camera.json
     /// or DIR/../camera.json;
     /// --out a folder, written OUT/SCENE.png). A frame without a
-    /// supporting plane gets an all-0 label image and its reason.
+    /// supporting plane gets an all-0 label image and its reason. A camera
+    /// file that states a lens (distortion_model, d) has its frames
+    /// rectified first: the labels are of the rectified image.
     Segment(SegmentArgs),
     /// Match two RGB-D frames, the robot's and the person's: each a frame
     /// folder (rgb.png, depth.png, optional masks.png, the nearest
