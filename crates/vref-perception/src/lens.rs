@@ -185,12 +185,19 @@ impl Rectifier {
                 found: raw.dimensions(),
             });
         }
-        let pixels: Vec<P> = raw.pixels().copied().collect();
-        let mut out = ImageBuffer::new(self.width, self.height);
-        for (to, &from) in out.pixels_mut().zip(&self.source) {
-            *to = pixels.get(from as usize).copied().unwrap_or(empty);
+        let channels = usize::from(P::CHANNEL_COUNT);
+        let (pixels, empty) = (raw.as_raw(), empty.channels());
+        let mut out = Vec::with_capacity(self.source.len() * channels);
+        for &from in &self.source {
+            // u32::MAX (a hole) lies beyond any image.
+            let at = (from as usize).saturating_mul(channels);
+            let pixel = pixels.get(at..at.saturating_add(channels));
+            out.extend_from_slice(pixel.unwrap_or(empty));
         }
-        Ok(out)
+        ImageBuffer::from_raw(self.width, self.height, out).ok_or(LensError::Size {
+            expected: (self.width, self.height),
+            found: raw.dimensions(),
+        })
     }
 }
 
