@@ -121,6 +121,18 @@ impl Perception {
         camera: &CameraModel,
         labels: Option<&LabelImage>,
     ) -> Result<Perceived<'_>, PerceiveError> {
+        if let Some(l) = labels
+            && l.dimensions() != colour.dimensions()
+        {
+            let (width, height) = colour.dimensions();
+            let (found_width, found_height) = l.dimensions();
+            return Err(PerceiveError::LabelSize {
+                width,
+                height,
+                found_width,
+                found_height,
+            });
+        }
         let Some(lens) = camera.lens else {
             return self.perceive(colour, depth, camera.intrinsics, labels);
         };
@@ -147,7 +159,8 @@ impl Perception {
         self.perceive(&colour, &depth, camera.intrinsics, labels.as_ref())
     }
 
-    /// [`Perception::process`] of a pinhole camera's frame.
+    /// [`Perception::process`] of a pinhole camera's frame, its labels
+    /// (if any) of the colour image's size.
     fn perceive(
         &mut self,
         colour: &image::RgbImage,
@@ -160,19 +173,7 @@ impl Perception {
         }
         let mut up = None;
         let labels = match labels {
-            Some(l) => {
-                if l.dimensions() != colour.dimensions() {
-                    let (width, height) = colour.dimensions();
-                    let (found_width, found_height) = l.dimensions();
-                    return Err(PerceiveError::LabelSize {
-                        width,
-                        height,
-                        found_width,
-                        found_height,
-                    });
-                }
-                l
-            }
+            Some(l) => l,
             None => {
                 let frame = RgbdFrame {
                     colour,
@@ -447,6 +448,12 @@ mod tests {
             off(unrectified) > 0.008,
             "{unrectified:?} against {truth:?}"
         );
+        // Labels of another size are that, not a rectification's failure.
+        let small = LabelImage::new(4, 4);
+        let err = perception
+            .process(&raw_colour, &raw_depth, &with_lens, Some(&small))
+            .unwrap_err();
+        assert_eq!(err.reason(), "label_size");
     }
 
     /// Where vref segmented the frame, the supporting plane's normal is
