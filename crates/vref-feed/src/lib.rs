@@ -28,6 +28,7 @@
 
 mod args;
 mod bop;
+mod camera_file;
 mod dataset;
 pub mod entries;
 mod error;
@@ -43,9 +44,10 @@ mod ticks;
 
 pub use args::{FeedArgs, SourceSpec};
 pub use bop::{BopGesture, BopImageSource, BopSceneSource, BopWorld};
+pub use camera_file::warn_unread;
 pub use error::{EntryError, RunError, SetupError};
 pub use feed::{BagReader, BagSnapshot, Feed, MeasuredBag, Published};
-pub use noise::{frame_law, warn_unread};
+pub use noise::frame_law;
 pub use publication::{Due, Publication, Ray, Target};
 pub use rgbd::RgbdSummary;
 pub use role::Role;

@@ -5,20 +5,6 @@
 
 use vref_perception::{DepthImage, DepthLaw, FrameLaw, NoiseSource};
 
-/// Says, at warn, the keys of `who`'s camera file that were not read
-/// (`vref_perception::folder::Camera::read`): a misspelt key leaves its
-/// default, which nothing else would show.
-pub fn warn_unread(unread: &[String], who: &str) {
-    if !unread.is_empty() {
-        tracing::warn!(
-            frame = who,
-            "camera file keys not read: {} (read: {})",
-            unread.join(", "),
-            vref_perception::folder::CAMERA_KEYS
-        );
-    }
-}
-
 /// The law `who`'s frame is measured with ([`FrameLaw::of`]), logged: the
 /// measured `c` at info, a frame too bare to measure at warn.
 pub fn frame_law(
