@@ -1,16 +1,17 @@
 //! RGB-D frames kept as folders, the layout `vref segment`, `vref match`
 //! and the feeds' `rgbd:` source read:
 //!
-//! - a frame folder holds `rgb.png` or `rgb.jpg` (RGB or grey, [`load_colour`]), `depth.png`
-//!   (16-bit, registered to the colour image) and optionally `masks.png`
-//!   (an instance label image, 8- or 16-bit grey, 0 = background, each
-//!   other value one object: what `vref segment` writes);
+//! - a frame folder holds `rgb.png` or `rgb.jpg` (RGB or grey,
+//!   [`load_colour`]), `depth.png` (16-bit, registered to the colour
+//!   image) and optionally `masks.png` (an instance label image, 8- or
+//!   16-bit grey, 0 = background, each other value one object: what `vref
+//!   segment` writes);
 //! - `camera.json` (`fx`, `fy`, `cx`, `cy`, optional `width` and `height`,
 //!   `depth_scale_mm`, millimetres per depth unit, default 1, also read
-//!   under BOP's name for it, `depth_scale`; optional
-//!   `distortion_model` and `d`, the lens as ROS's CameraInfo states it,
-//!   [`crate::lens`]) is the nearest one: in the frame folder, else the folder above, else the one
-//!   above that. So a single frame, `DIR/camera.json` beside `DIR/NNNN/`
+//!   under BOP's name for it, `depth_scale`; optional `distortion_model`
+//!   and `d`, the lens as ROS's CameraInfo states it, [`crate::lens`]) is
+//!   the nearest one: in the frame folder, else the folder above, else the
+//!   one above that. So a single frame, `DIR/camera.json` beside `DIR/NNNN/`
 //!   frame folders, and the OSD layout (`camera.json` beside `learn/`)
 //!   all read as they are.
 //!
@@ -30,7 +31,8 @@ use image::{DynamicImage, Luma, Rgb, RgbImage};
 use crate::load::decode;
 use crate::segment::LabelImage;
 use crate::{
-    DepthImage, FrameError, ImageLimit, Intrinsics, LoadError, Rectifier, load_colour, load_depth,
+    DepthImage, DepthPixels, FrameError, ImageLimit, Intrinsics, LoadError, Rectifier, load_colour,
+    load_depth,
 };
 
 /// The colour image of a frame folder, PNG or else JPEG.
@@ -387,28 +389,12 @@ impl RgbdImages {
             None => None,
         };
         let (colour, pixels, masks) = match &camera.lens {
-            Some(lens) => {
-                let rectifier = Rectifier::new(&camera.intrinsics, lens, width, height);
-                let lens_error = |path: &Path| {
-                    let path = path.to_owned();
-                    move |source| FolderError::Lens { path, source }
-                };
-                let masks = match (masks, masks_path) {
-                    (Some(m), Some(path)) => {
-                        Some(rectifier.apply(&m, Luma([0])).map_err(lens_error(path))?)
-                    }
-                    _ => None,
-                };
-                (
-                    rectifier
-                        .apply(&colour, Rgb([0, 0, 0]))
-                        .map_err(lens_error(&rgb))?,
-                    rectifier
-                        .apply(&pixels, Luma([0]))
-                        .map_err(lens_error(&depth_path))?,
-                    masks,
-                )
-            }
+            Some(lens) => rectified(&camera, lens, colour, pixels, masks).map_err(|source| {
+                FolderError::Lens {
+                    path: rgb.clone(),
+                    source,
+                }
+            })?,
             None => (colour, pixels, masks),
         };
         let depth = DepthImage::new(pixels, camera.metres_per_unit).map_err(|source| {
@@ -425,6 +411,24 @@ impl RgbdImages {
             unread_keys: Vec::new(),
         })
     }
+}
+
+/// A frame's colour, depth and masks rectified by `lens` to the pinhole
+/// camera of `camera`'s intrinsics ([`Rectifier`]).
+fn rectified(
+    camera: &Camera,
+    lens: &crate::Distortion,
+    colour: RgbImage,
+    depth: DepthPixels,
+    masks: Option<LabelImage>,
+) -> Result<(RgbImage, DepthPixels, Option<LabelImage>), crate::LensError> {
+    let (width, height) = colour.dimensions();
+    let rectifier = Rectifier::new(&camera.intrinsics, lens, width, height);
+    Ok((
+        rectifier.apply(&colour, Rgb([0, 0, 0]))?,
+        rectifier.apply(&depth, Luma([0]))?,
+        masks.map(|m| rectifier.apply(&m, Luma([0]))).transpose()?,
+    ))
 }
 
 /// An instance label image, 8- or 16-bit grey, refused before decoding
