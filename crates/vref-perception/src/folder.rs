@@ -26,13 +26,12 @@
 
 use std::path::{Path, PathBuf};
 
-use image::{DynamicImage, Luma, Rgb, RgbImage};
+use image::{DynamicImage, RgbImage};
 
 use crate::load::decode;
 use crate::segment::LabelImage;
 use crate::{
-    DepthImage, DepthPixels, FrameError, ImageLimit, Intrinsics, LoadError, Rectifier, load_colour,
-    load_depth,
+    DepthImage, FrameError, ImageLimit, Intrinsics, LoadError, Rectifier, load_colour, load_depth,
 };
 
 /// The colour image of a frame folder, PNG or else JPEG.
@@ -389,12 +388,12 @@ impl RgbdImages {
             None => None,
         };
         let (colour, pixels, masks) = match &camera.lens {
-            Some(lens) => rectified(&camera, lens, colour, pixels, masks).map_err(|source| {
-                FolderError::Lens {
+            Some(lens) => Rectifier::new(&camera.intrinsics, lens, width, height)
+                .frame(&colour, &pixels, masks.as_ref())
+                .map_err(|source| FolderError::Lens {
                     path: rgb.clone(),
                     source,
-                }
-            })?,
+                })?,
             None => (colour, pixels, masks),
         };
         let depth = DepthImage::new(pixels, camera.metres_per_unit).map_err(|source| {
@@ -411,24 +410,6 @@ impl RgbdImages {
             unread_keys: Vec::new(),
         })
     }
-}
-
-/// A frame's colour, depth and masks rectified by `lens` to the pinhole
-/// camera of `camera`'s intrinsics ([`Rectifier`]).
-fn rectified(
-    camera: &Camera,
-    lens: &crate::Distortion,
-    colour: RgbImage,
-    depth: DepthPixels,
-    masks: Option<LabelImage>,
-) -> Result<(RgbImage, DepthPixels, Option<LabelImage>), crate::LensError> {
-    let (width, height) = colour.dimensions();
-    let rectifier = Rectifier::new(&camera.intrinsics, lens, width, height);
-    Ok((
-        rectifier.apply(&colour, Rgb([0, 0, 0]))?,
-        rectifier.apply(&depth, Luma([0]))?,
-        masks.map(|m| rectifier.apply(&m, Luma([0]))).transpose()?,
-    ))
 }
 
 /// An instance label image, 8- or 16-bit grey, refused before decoding

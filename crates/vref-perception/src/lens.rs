@@ -11,9 +11,9 @@
 //! ray falls on, the nearest one (depth is never interpolated across an
 //! outline); pixels whose ray leaves the raw image have no reading.
 
-use image::{ImageBuffer, Pixel};
+use image::{ImageBuffer, Luma, Pixel, Rgb, RgbImage};
 
-use crate::Intrinsics;
+use crate::{DepthPixels, Intrinsics, LabelImage};
 
 /// Why distortion coefficients cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -173,6 +173,21 @@ impl Rectifier {
         (self.width, self.height)
     }
 
+    /// A frame's colour, depth and labels (if any) rectified: holes are
+    /// black, without a reading, and background.
+    pub fn frame(
+        &self,
+        colour: &RgbImage,
+        depth: &DepthPixels,
+        labels: Option<&LabelImage>,
+    ) -> Result<(RgbImage, DepthPixels, Option<LabelImage>), LensError> {
+        Ok((
+            self.apply(colour, Rgb([0, 0, 0]))?,
+            self.apply(depth, Luma([0]))?,
+            labels.map(|l| self.apply(l, Luma([0]))).transpose()?,
+        ))
+    }
+
     /// `raw` rectified, pixels whose ray leaves it set to `empty`.
     pub fn apply<P: Pixel>(
         &self,
@@ -204,8 +219,6 @@ impl Rectifier {
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
-
-    use image::Luma;
 
     use super::*;
 

@@ -3,7 +3,7 @@
 //! came, vref's segmenter otherwise, then the front end. Buffers are kept
 //! from frame to frame.
 
-use image::{GrayImage, Luma, Rgb};
+use image::GrayImage;
 use vref_feed::EntryError;
 use vref_perception::{
     DepthImage, Detection, Distortion, FrameError, FrontEnd, FrontEndSettings, Intrinsics,
@@ -145,13 +145,9 @@ impl Perception {
             let map = Rectifier::new(&camera.intrinsics, &lens, width, height);
             (camera.intrinsics, lens, map)
         });
-        let rectified = (|| {
-            let colour = rectifier.apply(colour, Rgb([0, 0, 0]))?;
-            let depth_pixels = rectifier.apply(depth.pixels(), Luma([0]))?;
-            let labels = labels.map(|l| rectifier.apply(l, Luma([0]))).transpose()?;
-            Ok((colour, depth_pixels, labels))
-        })()
-        .map_err(PerceiveError::Lens);
+        let rectified = rectifier
+            .frame(colour, depth.pixels(), labels)
+            .map_err(PerceiveError::Lens);
         self.rectifier = Some((camera.intrinsics, lens, rectifier));
         let (colour, depth_pixels, labels) = rectified?;
         let depth =
