@@ -188,3 +188,34 @@ fn a_lens_that_cannot_be_used_is_refused_naming_the_camera_file() {
     let frame = RgbdImages::load(dir.path(), ImageLimit::default()).unwrap();
     assert_eq!(frame.camera.lens, None);
 }
+
+/// The depth noise measured on a rectified frame is the raw frame's: the
+/// nearest-pixel lookup repeats or skips a reading here and there, which
+/// must not move what the segmenter's thresholds are set from. Real
+/// Kinect frames (OSD learn), barrel and pincushion lenses; the ratios
+/// print with `--nocapture`.
+#[test]
+fn rectifying_keeps_the_measured_depth_noise() {
+    let intrinsics = vref_perception::Intrinsics::new(FX, FX, CX, CY).unwrap();
+    for scene in ["learn3", "learn20", "learn36", "learn40"] {
+        let path = vref_testkit::data("osd/learn")
+            .join(scene)
+            .join("depth.png");
+        let raw = vref_perception::load_depth(&path, ImageLimit::default()).unwrap();
+        let raw = vref_perception::DepthImage::new(raw, 0.001).unwrap();
+        let before = vref_perception::pixel_noise(&raw).unwrap().c;
+        for d in [[-0.05, 0.01, 0.0, 0.0, 0.0], D, [0.1, 0.0, 0.0, 0.0, 0.0]] {
+            let lens = Distortion::new("plumb_bob", &d).unwrap().unwrap();
+            let rectified = vref_perception::Rectifier::new(&intrinsics, &lens, W, H)
+                .apply(raw.pixels(), Luma([0]))
+                .unwrap();
+            let rectified = vref_perception::DepthImage::new(rectified, 0.001).unwrap();
+            let after = vref_perception::pixel_noise(&rectified).unwrap().c;
+            eprintln!("{scene} d {d:?}: c {before:.5} raw, {after:.5} rectified");
+            assert!(
+                (after / before - 1.0).abs() < 0.05,
+                "{scene} {d:?}: {before} -> {after}"
+            );
+        }
+    }
+}
