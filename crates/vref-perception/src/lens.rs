@@ -121,6 +121,19 @@ impl Distortion {
             y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y,
         )
     }
+
+    /// The pinhole ray (`x = X / Z`, `y = Y / Z`) the lens puts at
+    /// normalised point `(xd, yd)`: [`Distortion::distort`] inverted by
+    /// fixed-point iteration, as OpenCV's `undistortPoints` does (exact
+    /// to rounding for the few per cent real lenses bend).
+    pub fn undistort(&self, xd: f64, yd: f64) -> (f64, f64) {
+        let (mut x, mut y) = (xd, yd);
+        for _ in 0..50 {
+            let (dx, dy) = self.distort(x, y);
+            (x, y) = (x + xd - dx, y + yd - dy);
+        }
+        (x, y)
+    }
 }
 
 /// Rectifies images of one size from one camera: for each pixel of the
@@ -280,6 +293,17 @@ mod tests {
         let ratio = Distortion::Rational([0.1, 0.0, 0.0, 0.0, 0.0, 0.05, 0.0, 0.0]);
         let (x, _) = ratio.distort(0.3, 0.4);
         assert!((x - 0.3 * 1.025 / 1.0125).abs() < 1e-15);
+    }
+
+    /// Undistorting undoes distorting across a wide lens's image.
+    #[test]
+    fn undistort_inverts_distort() {
+        let lens = Distortion::PlumbBob([-0.12, 0.05, 0.0008, -0.0005, 0.0]);
+        for (x, y) in [(0.0, 0.0), (0.3, -0.2), (-0.6, 0.45), (0.61, 0.46)] {
+            let (xd, yd) = lens.distort(x, y);
+            let (ux, uy) = lens.undistort(xd, yd);
+            assert!((ux - x).abs() < 1e-12 && (uy - y).abs() < 1e-12, "{x} {y}");
+        }
     }
 
     /// Each rectified pixel holds the raw pixel its ray falls on; rays

@@ -32,19 +32,6 @@ const BALLS: [([f64; 3], f64, [u8; 3]); 5] = [
 ];
 const FLOOR_Z: f64 = 1.2;
 
-/// The pinhole ray (`x = X / Z`, `y = Y / Z`) the lens puts at normalised
-/// point `(xd, yd)`: the model inverted by fixed-point iteration, as
-/// OpenCV's `undistortPoints` does.
-fn undistort(lens: &Distortion, xd: f64, yd: f64) -> (f64, f64) {
-    let (mut x, mut y) = (xd, yd);
-    for _ in 0..50 {
-        let (dx, dy) = lens.distort(x, y);
-        x += xd - dx;
-        y += yd - dy;
-    }
-    (x, y)
-}
-
 /// Depth (mm), colour and labels of the scene as a camera with `lens`
 /// records it (each raw pixel's own ray, cast).
 fn render(lens: &Distortion) -> (RgbImage, DepthPixels, LabelImage) {
@@ -53,7 +40,7 @@ fn render(lens: &Distortion) -> (RgbImage, DepthPixels, LabelImage) {
     let mut labels = LabelImage::new(W, H);
     for v in 0..H {
         for u in 0..W {
-            let (x, y) = undistort(lens, (f64::from(u) - CX) / FX, (f64::from(v) - CY) / FX);
+            let (x, y) = lens.undistort((f64::from(u) - CX) / FX, (f64::from(v) - CY) / FX);
             // Along the ray (x, y, 1): the floor at z = FLOOR_Z, or the
             // nearest ball in front of it.
             let ray = [x, y, 1.0];

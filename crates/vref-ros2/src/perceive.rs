@@ -373,8 +373,7 @@ mod tests {
 
     /// `image` of the pinhole camera as a camera of the same intrinsics
     /// with `lens` records it: each raw pixel takes the pinhole pixel its
-    /// ray passes through (the lens inverted by fixed-point iteration, as
-    /// OpenCV's `undistortPoints` does).
+    /// ray passes through.
     fn recorded<P: image::Pixel>(
         image: &image::ImageBuffer<P, Vec<P::Subpixel>>,
         lens: &Distortion,
@@ -383,13 +382,10 @@ mod tests {
         let k = pinhole().intrinsics;
         let (w, h) = image.dimensions();
         image::ImageBuffer::from_fn(w, h, |u, v| {
-            let xd = (f64::from(u) - k.cx()) / k.fx();
-            let yd = (f64::from(v) - k.cy()) / k.fy();
-            let (mut x, mut y) = (xd, yd);
-            for _ in 0..50 {
-                let (dx, dy) = lens.distort(x, y);
-                (x, y) = (x + xd - dx, y + yd - dy);
-            }
+            let (x, y) = lens.undistort(
+                (f64::from(u) - k.cx()) / k.fx(),
+                (f64::from(v) - k.cy()) / k.fy(),
+            );
             let (pu, pv) = ((k.fx() * x + k.cx()).round(), (k.fy() * y + k.cy()).round());
             if (0.0..f64::from(w)).contains(&pu) && (0.0..f64::from(h)).contains(&pv) {
                 *image.get_pixel(pu as u32, pv as u32)
