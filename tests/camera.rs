@@ -222,14 +222,13 @@ fn match_pairs_an_osd_scene_with_itself_and_names_its_labels() {
     // A lens vref cannot rectify is refused, not taken for a pinhole.
     std::fs::write(
         wall.join("camera.json"),
-        r#"{"fx": 525, "fy": 525, "cx": 319.5, "cy": 239.5, "distortion_model": "equidistant", "d": [0.1, 0.01, 0, 0]}"#,
+        r#"{"fx": 525, "fy": 525, "cx": 319.5, "cy": 239.5, "distortion_model": "fov", "d": [0.1]}"#,
     )
     .unwrap();
     let run = match_frames(&robot, &wall, &out);
     assert_eq!(run.code, Some(2), "{}", run.stderr);
     assert!(
-        run.stderr.contains("small/camera.json")
-            && run.stderr.contains("\"equidistant\" is not supported"),
+        run.stderr.contains("small/camera.json") && run.stderr.contains("\"fov\" is not supported"),
         "{}",
         run.stderr
     );

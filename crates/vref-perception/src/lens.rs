@@ -4,8 +4,10 @@
 //! its image's edges, so objects there would be placed centimetres off.
 //!
 //! The models and coefficient orders are ROS's `sensor_msgs/CameraInfo`
-//! and OpenCV's: `plumb_bob` (`k1 k2 p1 p2 k3`) and `rational_polynomial`
-//! (`k1 k2 p1 p2 k3 k4 k5 k6`). A rectified image is what ROS's
+//! and OpenCV's: `plumb_bob` (`k1 k2 p1 p2 k3`), `rational_polynomial`
+//! (`k1 k2 p1 p2 k3 k4 k5 k6`) and `equidistant` (`k1 k2 k3 k4`, OpenCV's
+//! fisheye model; a pinhole image of the same intrinsics keeps its
+//! middle, not its wide edges). A rectified image is what ROS's
 //! `image_proc` calls `image_rect` for a monocular camera with the
 //! intrinsics kept: each pixel takes the reading of the raw pixel its
 //! ray falls on, the nearest one (depth is never interpolated across an
@@ -19,7 +21,7 @@ use crate::{DepthPixels, Intrinsics, LabelImage};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LensError {
     #[error(
-        "distortion model {model:?} is not supported (supported: plumb_bob, rational_polynomial)"
+        "distortion model {model:?} is not supported (supported: plumb_bob, rational_polynomial, equidistant)"
     )]
     Model { model: String },
     #[error("distortion model {model} takes {expected} coefficients, {found} given")]
@@ -59,18 +61,22 @@ pub enum Distortion {
     /// `k1 k2 p1 p2 k3 k4 k5 k6`: a radial ratio of polynomials and
     /// tangential terms.
     Rational([f64; 8]),
+    /// `k1 k2 k3 k4`: a fisheye's angle from the axis, `theta (1 + k1
+    /// theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8)` (Kannala-Brandt).
+    Equidistant([f64; 4]),
 }
 
 impl Distortion {
     /// The distortion of a ROS model name and its coefficients; `None`
-    /// where there is none (no coefficients, or all zero, whatever the
-    /// model). `plumb_bob` takes 4 or 5 coefficients (`k3` 0 when
-    /// missing), `rational_polynomial` 8.
+    /// where there is none (no coefficients, or all zero for a model
+    /// whose zero is the pinhole: not `equidistant`, whose zero is the
+    /// ideal fisheye). `plumb_bob` takes 4 or 5 coefficients (`k3` 0 when
+    /// missing), `rational_polynomial` 8, `equidistant` 4.
     pub fn new(model: &str, d: &[f64]) -> Result<Option<Self>, LensError> {
         if let Some((index, &value)) = d.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(LensError::Value { index, value });
         }
-        if d.iter().all(|&v| v == 0.0) {
+        if d.iter().all(|&v| v == 0.0) && model != "equidistant" {
             return Ok(None);
         }
         let lens = match model {
@@ -93,6 +99,14 @@ impl Distortion {
                 })?;
                 Self::Rational(k)
             }
+            "equidistant" => {
+                let k: [f64; 4] = d.try_into().map_err(|_| LensError::Count {
+                    model: "equidistant",
+                    expected: "4",
+                    found: d.len(),
+                })?;
+                Self::Equidistant(k)
+            }
             "" => return Err(LensError::NoModel),
             other => {
                 return Err(LensError::Model {
@@ -107,6 +121,16 @@ impl Distortion {
     /// y)` (`x = X / Z`, `y = Y / Z`).
     pub fn distort(&self, x: f64, y: f64) -> (f64, f64) {
         let r2 = x * x + y * y;
+        if let Self::Equidistant([k1, k2, k3, k4]) = *self {
+            let r = r2.sqrt();
+            if r == 0.0 {
+                return (x, y);
+            }
+            let theta = r.atan();
+            let t2 = theta * theta;
+            let bent = theta * (1.0 + t2 * (k1 + t2 * (k2 + t2 * (k3 + t2 * k4))));
+            return (x * bent / r, y * bent / r);
+        }
         let (radial, [p1, p2]) = match *self {
             Self::PlumbBob([k1, k2, p1, p2, k3]) => {
                 (1.0 + r2 * (k1 + r2 * (k2 + r2 * k3)), [p1, p2])
@@ -115,6 +139,7 @@ impl Distortion {
                 (1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))) / (1.0 + r2 * (k4 + r2 * (k5 + r2 * k6))),
                 [p1, p2],
             ),
+            Self::Equidistant(_) => (1.0, [0.0, 0.0]),
         };
         (
             x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
@@ -239,7 +264,11 @@ mod tests {
     fn models_and_counts_are_checked() {
         assert_eq!(Distortion::new("plumb_bob", &[0.0; 5]), Ok(None));
         assert_eq!(Distortion::new("", &[]), Ok(None));
-        assert_eq!(Distortion::new("equidistant", &[0.0; 4]), Ok(None));
+        assert_eq!(Distortion::new("fov", &[0.0]), Ok(None));
+        assert_eq!(
+            Distortion::new("equidistant", &[0.0; 4]),
+            Ok(Some(Distortion::Equidistant([0.0; 4])))
+        );
         assert_eq!(
             Distortion::new("plumb_bob", &[0.1, 0.0, 0.0, 0.0]),
             Ok(Some(Distortion::PlumbBob([0.1, 0.0, 0.0, 0.0, 0.0])))
@@ -263,10 +292,14 @@ mod tests {
             }
         );
         assert_eq!(
-            Distortion::new("equidistant", &[0.1; 4])
+            Distortion::new("equidistant", &[0.1; 5])
                 .unwrap_err()
                 .to_string(),
-            "distortion model \"equidistant\" is not supported (supported: plumb_bob, rational_polynomial)"
+            "distortion model equidistant takes 4 coefficients, 5 given"
+        );
+        assert_eq!(
+            Distortion::new("fov", &[0.1]).unwrap_err().to_string(),
+            "distortion model \"fov\" is not supported (supported: plumb_bob, rational_polynomial, equidistant)"
         );
         assert_eq!(Distortion::new("", &[0.1]).unwrap_err(), LensError::NoModel);
         assert_eq!(
@@ -293,16 +326,30 @@ mod tests {
         let ratio = Distortion::Rational([0.1, 0.0, 0.0, 0.0, 0.0, 0.05, 0.0, 0.0]);
         let (x, _) = ratio.distort(0.3, 0.4);
         assert!((x - 0.3 * 1.025 / 1.0125).abs() < 1e-15);
+        // r = 0.5: theta = atan 0.5, bent to theta (1 + 0.1 theta^2) =
+        // 0.4736146 from the axis.
+        let fisheye = Distortion::Equidistant([0.1, 0.0, 0.0, 0.0]);
+        let (x, y) = fisheye.distort(0.3, 0.4);
+        assert!((x - 0.284_168_760_102_261_7).abs() < 1e-15);
+        assert!((y - 0.378_891_680_136_348_9).abs() < 1e-15);
+        assert_eq!(fisheye.distort(0.0, 0.0), (0.0, 0.0));
     }
 
     /// Undistorting undoes distorting across a wide lens's image.
     #[test]
     fn undistort_inverts_distort() {
-        let lens = Distortion::PlumbBob([-0.12, 0.05, 0.0008, -0.0005, 0.0]);
-        for (x, y) in [(0.0, 0.0), (0.3, -0.2), (-0.6, 0.45), (0.61, 0.46)] {
-            let (xd, yd) = lens.distort(x, y);
-            let (ux, uy) = lens.undistort(xd, yd);
-            assert!((ux - x).abs() < 1e-12 && (uy - y).abs() < 1e-12, "{x} {y}");
+        for lens in [
+            Distortion::PlumbBob([-0.12, 0.05, 0.0008, -0.0005, 0.0]),
+            Distortion::Equidistant([0.05, -0.01, 0.0, 0.0]),
+        ] {
+            for (x, y) in [(0.0, 0.0), (0.3, -0.2), (-0.6, 0.45), (0.61, 0.46)] {
+                let (xd, yd) = lens.distort(x, y);
+                let (ux, uy) = lens.undistort(xd, yd);
+                assert!(
+                    (ux - x).abs() < 1e-12 && (uy - y).abs() < 1e-12,
+                    "{lens:?} {x} {y}"
+                );
+            }
         }
     }
 

@@ -65,9 +65,8 @@ fn render(lens: &Distortion) -> (RgbImage, DepthPixels, LabelImage) {
     (colour, depth, labels)
 }
 
-fn write_frame(dir: &Path, camera: &str) {
-    let lens = Distortion::new("plumb_bob", &D).unwrap().unwrap();
-    let (colour, depth, labels) = render(&lens);
+fn write_frame(dir: &Path, camera: &str, lens: &Distortion) {
+    let (colour, depth, labels) = render(lens);
     colour.save(dir.join("rgb.png")).unwrap();
     depth.save(dir.join("depth.png")).unwrap();
     labels.save(dir.join("masks.png")).unwrap();
@@ -114,6 +113,10 @@ fn errors(dir: &Path) -> Vec<f64> {
         .collect()
 }
 
+fn barrel() -> Distortion {
+    Distortion::new("plumb_bob", &D).unwrap().unwrap()
+}
+
 fn camera(lens: &str) -> String {
     format!(
         r#"{{"fx": {FX}, "fy": {FX}, "cx": {CX}, "cy": {CY}, "width": {W}, "height": {H}{lens}}}"#
@@ -122,30 +125,42 @@ fn camera(lens: &str) -> String {
 
 #[test]
 fn a_frame_of_a_bending_lens_is_rectified_and_its_objects_placed_right() {
-    let d = D.map(|k| k.to_string()).join(", ");
-    let rectified = tempfile::tempdir().unwrap();
-    write_frame(
-        rectified.path(),
-        &camera(&format!(r#", "distortion_model": "plumb_bob", "d": [{d}]"#)),
-    );
-    let pinhole = tempfile::tempdir().unwrap();
-    write_frame(pinhole.path(), &camera(""));
-    let with_lens = errors(rectified.path());
-    let without = errors(pinhole.path());
-    eprintln!("errors with the lens {with_lens:.4?}, read as a pinhole {without:.4?}");
-    // The centre ball is where it is either way; the corner ones only
-    // with the lens.
-    assert!(with_lens.iter().all(|&e| e < 0.01), "{with_lens:?}");
-    assert!(without[0] < 0.01, "{without:?}");
-    assert!(without[1..].iter().all(|&e| e > 0.015), "{without:?}");
+    // A wide lens's barrel, and a fisheye (equidistant: the ray's angle,
+    // not its tangent, is what the image spaces evenly).
+    for (model, d) in [("plumb_bob", D.to_vec()), ("equidistant", vec![0.0; 4])] {
+        let lens = Distortion::new(model, &d).unwrap().unwrap();
+        let d = d.iter().map(f64::to_string).collect::<Vec<_>>().join(", ");
+        let rectified = tempfile::tempdir().unwrap();
+        write_frame(
+            rectified.path(),
+            &camera(&format!(r#", "distortion_model": "{model}", "d": [{d}]"#)),
+            &lens,
+        );
+        let pinhole = tempfile::tempdir().unwrap();
+        write_frame(pinhole.path(), &camera(""), &lens);
+        let with_lens = errors(rectified.path());
+        let without = errors(pinhole.path());
+        eprintln!("{model}: errors with the lens {with_lens:.4?}, read as a pinhole {without:.4?}");
+        // The centre ball is where it is either way; the corner ones only
+        // with the lens.
+        assert!(
+            with_lens.iter().all(|&e| e < 0.01),
+            "{model}: {with_lens:?}"
+        );
+        assert!(without[0] < 0.01, "{model}: {without:?}");
+        assert!(
+            without[1..].iter().all(|&e| e > 0.015),
+            "{model}: {without:?}"
+        );
+    }
 }
 
 #[test]
 fn a_lens_that_cannot_be_used_is_refused_naming_the_camera_file() {
     for (lens, why) in [
         (
-            r#", "distortion_model": "equidistant", "d": [0.1, 0, 0, 0]"#,
-            "distortion model \"equidistant\" is not supported",
+            r#", "distortion_model": "fov", "d": [0.1]"#,
+            "distortion model \"fov\" is not supported",
         ),
         (
             r#", "distortion_model": "plumb_bob", "d": [0.1, 0, 0]"#,
@@ -157,7 +172,7 @@ fn a_lens_that_cannot_be_used_is_refused_naming_the_camera_file() {
         ),
     ] {
         let dir = tempfile::tempdir().unwrap();
-        write_frame(dir.path(), &camera(lens));
+        write_frame(dir.path(), &camera(lens), &barrel());
         let err = RgbdImages::load(dir.path(), ImageLimit::default()).unwrap_err();
         assert!(matches!(err, FolderError::Lens { .. }), "{err:?}");
         let message = format!("{err}: {}", std::error::Error::source(&err).unwrap());
@@ -166,11 +181,12 @@ fn a_lens_that_cannot_be_used_is_refused_naming_the_camera_file() {
             "{message}"
         );
     }
-    // All zero is no distortion, whatever the model.
+    // All zero is no distortion, but for a fisheye.
     let dir = tempfile::tempdir().unwrap();
     write_frame(
         dir.path(),
-        &camera(r#", "distortion_model": "equidistant", "d": [0, 0, 0, 0]"#),
+        &camera(r#", "distortion_model": "fov", "d": [0]"#),
+        &barrel(),
     );
     let frame = RgbdImages::load(dir.path(), ImageLimit::default()).unwrap();
     assert_eq!(frame.camera.lens, None);

@@ -499,11 +499,11 @@ mod tests {
             camera_model(&info, DistortionUse::Rectify).unwrap().lens,
             Some(Distortion::PlumbBob([-0.1, 0.02, 0.0, 0.0, 0.0]))
         );
-        info.distortion_model = "equidistant".to_owned();
+        info.distortion_model = "fov".to_owned();
         let err = camera_model(&info, DistortionUse::Rectify).unwrap_err();
         assert_eq!(err.reason(), "distortion");
         assert!(
-            err.to_string().contains("\"equidistant\" is not supported"),
+            err.to_string().contains("\"fov\" is not supported"),
             "{err}"
         );
         // Images rectified already: the lens is not read.
