@@ -61,7 +61,7 @@ pub fn reproject(
     let raw = depth.pixels();
     let point = |u: u32, v: u32| -> Option<[f64; 3]> {
         let z = f64::from(raw.get_pixel(u, v).0[0]) * scale;
-        (z > 0.0).then(|| unproject(intrinsics, u, v, z))
+        (z > 0.0).then(|| intrinsics.back_project(f64::from(u), f64::from(v), z))
     };
     let mut sum = [0.0; 3];
     let mut count = 0.0;
@@ -88,11 +88,9 @@ pub fn reproject(
         for u in 0..w {
             let Some(p) = point(u, v) else { continue };
             let q = moved(&turn, pivot, p);
-            if q[2] <= 0.0 {
+            let Some([x, y]) = intrinsics.project(q) else {
                 continue;
-            }
-            let x = intrinsics.fx() * q[0] / q[2] + intrinsics.cx();
-            let y = intrinsics.fy() * q[1] / q[2] + intrinsics.cy();
+            };
             // Each reading covers the 2 x 2 pixels around where it lands,
             // so that a surface seen closer keeps no cracks.
             for (dx, dy) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
@@ -136,14 +134,6 @@ pub fn majority(
         .iter()
         .max_by_key(|(l, n)| (**n, std::cmp::Reverse(**l)))?;
     (best != 0 && n as f64 >= share * pixels as f64).then_some(best)
-}
-
-fn unproject(c: Intrinsics, u: u32, v: u32, z: f64) -> [f64; 3] {
-    [
-        (f64::from(u) - c.cx()) / c.fx() * z,
-        (f64::from(v) - c.cy()) / c.fy() * z,
-        z,
-    ]
 }
 
 /// The rotation by `angle` about the unit `axis` (Rodrigues).

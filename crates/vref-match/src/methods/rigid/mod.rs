@@ -239,14 +239,12 @@ pub(crate) fn solve_from(
     // well, each of which alone lets through unrelated views that real
     // ones resemble) is low: docs/method.md, "Coincidence".
     let measures = measures_of(&assignment);
-    let significant = match motion {
-        Some(_) => !rp.chance_rule || coincidence::evidence(&measures, rp) >= rp.evidence_floor,
-        // Without a motion (a view of under three objects fixes none, and
-        // a search may find no sample that holds) the partners rest on
-        // appearance alone: a lone pair has nothing to check it, and two
-        // pairs fit their own swap as well as themselves.
-        None => false,
-    };
+    // Without a motion (a view of under three objects fixes none, and a
+    // search may find no sample that holds) the partners rest on
+    // appearance alone: a lone pair has nothing to check it, and two pairs
+    // fit their own swap as well as themselves.
+    let significant = motion.is_some()
+        && (!rp.chance_rule || coincidence::evidence(&measures, rp) >= rp.evidence_floor);
     for (c, a) in confidence.iter_mut().zip(&assignment) {
         *c = rp.calibration.probability(*c, a.is_none(), margin);
         // A partner resting on a motion that chance explains as well, or
