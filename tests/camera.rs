@@ -240,32 +240,64 @@ fn match_pairs_an_osd_scene_with_itself_and_names_its_labels() {
 /// the person's segment's physical object (OSD's labels), and most
 /// person-side objects are `ok`. learn38's bowl comes out in pieces;
 /// learn25's second view merges its two boxes into one segment, which
-/// appearance alone once answered `ok` with the wrong box.
+/// appearance alone once answered `ok` with the wrong box. The same
+/// holds when the person's camera is a second sensor: an image 0.75
+/// times the size, its own depth noise eight times the frame's, and its
+/// own white balance and exposure.
 #[test]
 fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
-    use vref_perception::reproject::{majority, reproject};
+    use vref_perception::reproject::{SecondSensor, majority, reproject_scaled};
     let dir = tempfile::tempdir().unwrap();
     let defaults = dir.path().join("defaults.toml");
     std::fs::write(&defaults, "").unwrap();
     let (mut ok, mut with_object) = (0, 0);
-    for scene in ["learn25", "learn38"] {
-        let robot = dir.path().join(scene).join("robot");
+    let second = |c: f64| SecondSensor {
+        depth_c: 8.0 * c,
+        white_balance: 0.08,
+        exposure: 0.15,
+        colour_sigma: 2.0,
+        seed: 1,
+    };
+    for (scene, sensor) in [
+        ("learn25", false),
+        ("learn38", false),
+        ("learn25", true),
+        ("learn38", true),
+    ] {
+        let pair = dir.path().join(format!("{scene}-{sensor}"));
+        let robot = pair.join("robot");
         copy_frame(scene, &robot);
         osd_camera(&robot);
         let images = vref_perception::folder::RgbdImages::load(&robot, Default::default()).unwrap();
-        let view = reproject(
+        let scale = if sensor { 0.75 } else { 1.0 };
+        let mut view = reproject_scaled(
             &images.colour,
             &images.depth,
             images.camera.intrinsics,
             30.0,
+            scale,
         )
         .unwrap();
-        let human = dir.path().join(scene).join("human");
+        if sensor {
+            let c = vref_perception::pixel_noise(&images.depth).unwrap().c;
+            second(c).apply(&mut view, images.depth.metres_per_unit());
+        }
+        let human = pair.join("human");
         std::fs::create_dir_all(&human).unwrap();
         view.colour.save(human.join("rgb.png")).unwrap();
         view.depth.save(human.join("depth.png")).unwrap();
-        osd_camera(&human);
-        let out = dir.path().join(scene).join("labels");
+        let k = view.intrinsics;
+        let (w, h) = view.colour.dimensions();
+        std::fs::write(
+            human.join("camera.json"),
+            serde_json::json!({
+                "fx": k.fx(), "fy": k.fy(), "cx": k.cx(), "cy": k.cy(),
+                "width": w, "height": h, "depth_scale_mm": 1.0,
+            })
+            .to_string(),
+        )
+        .unwrap();
+        let out = pair.join("labels");
         let run = vref(
             &[
                 "match",
@@ -303,7 +335,7 @@ fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
             });
             assert!(
                 object.is_some() && named == object,
-                "{scene}: {line} names object {named:?}, not {object:?}"
+                "{scene} (second sensor {sensor}): {line} names object {named:?}, not {object:?}"
             );
         }
     }

@@ -8,13 +8,25 @@
 # by physical object (OSD's labels: the two segments mostly one object, a
 # piece of it will do); a row per yaw.
 #
-#   bash tools/reprojected-pairs.sh [YAW...]      (default -45 -30 -15 15 30 45)
+#   bash tools/reprojected-pairs.sh [--scale S] [--sensor SEED [--noise K]] [YAW...]
+#
+# YAW defaults to -45 -30 -15 15 30 45. `--scale S` gives the person's
+# camera an image S times the frame's each way, `--sensor SEED` a second
+# sensor's own depth noise (K times the frame's) and colour response (the
+# `reproject` example's header says which).
 #
 # Needs `cargo build --release -p vref --bins` first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . tools/need-vref.sh
 data=${VREF_DATA:-../shared/data}
+options=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --scale|--sensor|--noise) options+=("$1" "$2"); shift 2 ;;
+    *) break ;;
+  esac
+done
 yaws=("$@")
 [ ${#yaws[@]} -gt 0 ] || yaws=(-45 -30 -15 15 30 45)
 cargo build --release -q -p vref-perception --example reproject
@@ -26,7 +38,7 @@ echo "|---|---|---|---|---|---|---|---|---|---|"
 for yaw in "${yaws[@]}"; do
   for frame in "$data"/osd/learn/*/; do
     out=$work/$yaw-$(basename "$frame")
-    "$reproject" make "$frame" "$out" "$yaw" 2>/dev/null || continue
+    "$reproject" make "$frame" "$out" "$yaw" "${options[@]}" 2>/dev/null || continue
     "$vref" match "$out/robot" "$out/human" --json --labels-out "$out/labels" \
       > "$out/answers.jsonl" 2>/dev/null
     "$reproject" score "$out"

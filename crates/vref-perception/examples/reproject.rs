@@ -6,13 +6,22 @@
 //! came from, and for `ok` answers the physical object (OSD's labels).
 //!
 //! ```sh
-//! cargo run --release -p vref-perception --example reproject -- make FRAME_DIR OUT_DIR YAW_DEG
+//! cargo run --release -p vref-perception --example reproject -- make FRAME_DIR OUT_DIR YAW_DEG [--scale S] [--sensor SEED [--noise K]]
 //! target/release/vref match OUT_DIR/robot OUT_DIR/human --json --labels-out OUT_DIR/labels > OUT_DIR/answers.jsonl
 //! cargo run --release -p vref-perception --example reproject -- score OUT_DIR
 //! ```
 //!
 //! `make` writes `OUT_DIR/robot` (the frame as it is), `OUT_DIR/human`
-//! (the virtual view), their `camera.json` and `OUT_DIR/yaw`; `score`
+//! (the virtual view), their `camera.json` and `OUT_DIR/view.json`.
+//! `--scale S` makes the person's camera's image S (in (0, 1]) times the
+//! frame's each way; `--sensor SEED` puts a second sensor on the view
+//! (`SecondSensor`: depth noise as large as the frame's own, measured on
+//! it, but independent; white balance within 8 % per channel, as the
+//! rendered BOP headset's; exposure within 15 %; colour noise of 2
+//! levels), so that the two views no longer share one realisation of the
+//! noise and the colours; `--noise K` makes its depth noise K times the
+//! frame's (8: the rendered BOP headset's against its robot camera).
+//! `score`
 //! prints one JSON line of counts (`VERBOSE=1`: each answer and its
 //! truth on stderr) (`tools/reprojected-pairs.sh` runs it
 //! over a folder of frames).
@@ -20,10 +29,9 @@
 use std::error::Error;
 use std::path::Path;
 
-use vref_perception::ImageLimit;
-use vref_perception::LabelImage;
 use vref_perception::folder::RgbdImages;
-use vref_perception::reproject::{Reprojection, majority, reproject};
+use vref_perception::reproject::{Reprojection, SecondSensor, majority, reproject_scaled};
+use vref_perception::{ImageLimit, LabelImage, pixel_noise};
 
 type Result<T> = std::result::Result<T, Box<dyn Error>>;
 
@@ -33,30 +41,79 @@ const MAJORITY: f64 = 0.5;
 /// The frame's object labels (OSD's `label.png`: parts of the k-th
 /// object are 10k..10k+9, k >= 2; below 20 table or no reading).
 const OBJECTS_FILE: &str = "objects.png";
+/// How the person's view was made: its yaw, scale and second sensor.
+const VIEW_FILE: &str = "view.json";
+/// The second sensor's colour response (`--sensor`): fixed before any
+/// measurement, from the rendered BOP headset's white balance and a
+/// camera's usual auto-exposure spread.
+const WHITE_BALANCE: f64 = 0.08;
+const EXPOSURE: f64 = 0.15;
+const COLOUR_SIGMA: f64 = 2.0;
+
+/// `view.json`.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct View {
+    yaw_deg: f64,
+    scale: f64,
+    sensor_seed: Option<u64>,
+    /// The second sensor's depth noise over the frame's.
+    noise: f64,
+}
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    let usage = "usage: reproject make FRAME_DIR OUT_DIR YAW_DEG [--scale S] [--sensor SEED [--noise K]] | reproject score OUT_DIR";
     match args.iter().map(String::as_str).collect::<Vec<_>>()[..] {
-        ["make", frame, out, yaw] => make(Path::new(frame), Path::new(out), yaw.parse()?),
-        ["score", out] => score(Path::new(out)),
-        _ => {
-            Err("usage: reproject make FRAME_DIR OUT_DIR YAW_DEG | reproject score OUT_DIR".into())
+        ["make", frame, out, yaw, ref options @ ..] => {
+            let mut view = View {
+                yaw_deg: yaw.parse()?,
+                scale: 1.0,
+                sensor_seed: None,
+                noise: 1.0,
+            };
+            for pair in options.chunks(2) {
+                match pair {
+                    ["--scale", s] => view.scale = s.parse()?,
+                    ["--sensor", seed] => view.sensor_seed = Some(seed.parse()?),
+                    ["--noise", k] => view.noise = k.parse()?,
+                    _ => return Err(usage.into()),
+                }
+            }
+            make(Path::new(frame), Path::new(out), &view)
         }
+        ["score", out] => score(Path::new(out)),
+        _ => Err(usage.into()),
     }
 }
 
-fn view_of(images: &RgbdImages, yaw_deg: f64) -> Result<Reprojection> {
-    Ok(reproject(
+/// The person's view of `images` as `view` states it. Its source map
+/// (the truth) does not depend on the second sensor.
+fn view_of(images: &RgbdImages, view: &View) -> Result<Reprojection> {
+    let mut seen = reproject_scaled(
         &images.colour,
         &images.depth,
         images.camera.intrinsics,
-        yaw_deg,
-    )?)
+        view.yaw_deg,
+        view.scale,
+    )?;
+    if let Some(seed) = view.sensor_seed {
+        let noise =
+            pixel_noise(&images.depth).ok_or("the frame's depth noise cannot be measured")?;
+        let sensor = SecondSensor {
+            depth_c: view.noise * noise.c,
+            white_balance: WHITE_BALANCE,
+            exposure: EXPOSURE,
+            colour_sigma: COLOUR_SIGMA,
+            seed,
+        };
+        sensor.apply(&mut seen, images.depth.metres_per_unit());
+    }
+    Ok(seen)
 }
 
-fn make(frame: &Path, out: &Path, yaw_deg: f64) -> Result<()> {
+fn make(frame: &Path, out: &Path, how: &View) -> Result<()> {
     let images = RgbdImages::load(frame, ImageLimit::default())?;
-    let view = view_of(&images, yaw_deg)?;
+    let view = view_of(&images, how)?;
     for (side, colour, depth) in [
         ("robot", &images.colour, images.depth.pixels()),
         ("human", &view.colour, &view.depth),
@@ -66,15 +123,24 @@ fn make(frame: &Path, out: &Path, yaw_deg: f64) -> Result<()> {
         colour.save(dir.join("rgb.png"))?;
         depth.save(dir.join("depth.png"))?;
     }
-    let c = images.camera.intrinsics;
-    let (w, h) = images.colour.dimensions();
-    let camera = serde_json::json!({
-        "fx": c.fx(), "fy": c.fy(), "cx": c.cx(), "cy": c.cy(),
-        "width": w, "height": h,
-        "depth_scale_mm": images.depth.metres_per_unit() * 1000.0,
-    });
-    std::fs::write(out.join("camera.json"), camera.to_string())?;
-    std::fs::write(out.join("yaw"), yaw_deg.to_string())?;
+    let depth_scale_mm = images.depth.metres_per_unit() * 1000.0;
+    let camera_json = |c: vref_perception::Intrinsics, (w, h): (u32, u32)| {
+        serde_json::json!({
+            "fx": c.fx(), "fy": c.fy(), "cx": c.cx(), "cy": c.cy(),
+            "width": w, "height": h,
+            "depth_scale_mm": depth_scale_mm,
+        })
+        .to_string()
+    };
+    std::fs::write(
+        out.join("camera.json"),
+        camera_json(images.camera.intrinsics, images.colour.dimensions()),
+    )?;
+    std::fs::write(
+        out.join("human").join("camera.json"),
+        camera_json(view.intrinsics, view.colour.dimensions()),
+    )?;
+    std::fs::write(out.join(VIEW_FILE), serde_json::to_string(how)?)?;
     // OSD's object labels, where the frame has them: which physical
     // object each reading is.
     let objects = frame.join("label.png");
@@ -93,9 +159,9 @@ struct Answer {
 }
 
 fn score(out: &Path) -> Result<()> {
-    let yaw: f64 = std::fs::read_to_string(out.join("yaw"))?.trim().parse()?;
+    let how: View = serde_json::from_str(&std::fs::read_to_string(out.join(VIEW_FILE))?)?;
     let images = RgbdImages::load(&out.join("robot"), ImageLimit::default())?;
-    let view = view_of(&images, yaw)?;
+    let view = view_of(&images, &how)?;
     let labels = |path: &Path| -> Result<LabelImage> {
         Ok(image::open(path)
             .map_err(|e| format!("{}: {e}", path.display()))?

@@ -3,10 +3,11 @@
 //! walked around the table (about the supporting plane's normal, through
 //! the centre of what stands on it), z-buffered, each reading keeping its
 //! own depth and colour. The real sensor's noise, holes and flying pixels
-//! stay; what a second sensor adds (its own noise, colours, lens) does
-//! not, and what the first camera never saw is a hole. Every pixel of the
-//! view knows the reading it shows, which is the truth a match of the
-//! two views is scored against.
+//! stay, and what the first camera never saw is a hole. What a second
+//! sensor adds (its own depth noise, colour response and image size) can
+//! be put on the view ([`SecondSensor`]). Every pixel of the view knows
+//! the reading it shows, which is the truth a match of the two views is
+//! scored against.
 
 use image::{Luma, Rgb, RgbImage};
 
@@ -22,11 +23,15 @@ pub enum ReprojectError {
     NoSupport(NoSupport),
     #[error("nothing stands on the supporting plane")]
     NothingOnIt,
+    #[error("the view's scale {0} is not in (0, 1]")]
+    Scale(f64),
 }
 
 /// The virtual view of a frame.
 #[derive(Debug, Clone)]
 pub struct Reprojection {
+    /// The virtual camera: the frame's, its image scaled ([`reproject_scaled`]).
+    pub intrinsics: Intrinsics,
     pub colour: RgbImage,
     pub depth: DepthPixels,
     /// For every pixel (row-major), the index of the frame's pixel it
@@ -44,6 +49,22 @@ pub fn reproject(
     intrinsics: Intrinsics,
     yaw_deg: f64,
 ) -> Result<Reprojection, ReprojectError> {
+    reproject_scaled(colour, depth, intrinsics, yaw_deg, 1.0)
+}
+
+/// [`reproject`] into a camera whose image is `scale` (in (0, 1]) times
+/// the frame's in each direction, focal lengths and principal point
+/// scaled alike: a second camera of coarser resolution.
+pub fn reproject_scaled(
+    colour: &RgbImage,
+    depth: &DepthImage,
+    intrinsics: Intrinsics,
+    yaw_deg: f64,
+    scale: f64,
+) -> Result<Reprojection, ReprojectError> {
+    if !(scale > 0.0 && scale <= 1.0) {
+        return Err(ReprojectError::Scale(scale));
+    }
     let mut labels = LabelImage::new(1, 1);
     let frame = RgbdFrame {
         colour,
@@ -57,10 +78,10 @@ pub fn reproject(
             Segmentation::NoSupport(why) => return Err(ReprojectError::NoSupport(why)),
         };
     let (w, h) = colour.dimensions();
-    let scale = depth.metres_per_unit();
+    let metres = depth.metres_per_unit();
     let raw = depth.pixels();
     let point = |u: u32, v: u32| -> Option<[f64; 3]> {
-        let z = f64::from(raw.get_pixel(u, v).0[0]) * scale;
+        let z = f64::from(raw.get_pixel(u, v).0[0]) * metres;
         (z > 0.0).then(|| intrinsics.back_project(f64::from(u), f64::from(v), z))
     };
     let mut sum = [0.0; 3];
@@ -78,17 +99,24 @@ pub fn reproject(
     // The camera turns by `yaw` about the normal through the pivot: the
     // points, seen from it, by the opposite turn.
     let turn = rotation(plane.normal, -yaw_deg.to_radians());
+    let camera = scaled(intrinsics, scale)?;
+    let (w, h) = (
+        (f64::from(w) * scale).round().max(1.0) as u32,
+        (f64::from(h) * scale).round().max(1.0) as u32,
+    );
     let mut view = Reprojection {
+        intrinsics: camera,
         colour: RgbImage::from_pixel(w, h, Rgb([0, 0, 0])),
         depth: DepthPixels::new(w, h),
         source: vec![None; (w * h) as usize],
     };
     let mut nearest = vec![f64::INFINITY; (w * h) as usize];
-    for v in 0..h {
-        for u in 0..w {
+    let (fw, fh) = colour.dimensions();
+    for v in 0..fh {
+        for u in 0..fw {
             let Some(p) = point(u, v) else { continue };
             let q = moved(&turn, pivot, p);
-            let Some([x, y]) = intrinsics.project(q) else {
+            let Some([x, y]) = camera.project(q) else {
                 continue;
             };
             // Each reading covers the 2 x 2 pixels around where it lands,
@@ -101,16 +129,120 @@ pub fn reproject(
                 let at = ty as usize * w as usize + tx as usize;
                 if q[2] < nearest[at] {
                     nearest[at] = q[2];
-                    view.source[at] = Some(v * w + u);
+                    view.source[at] = Some(v * fw + u);
                     let (tx, ty) = (tx as u32, ty as u32);
                     view.colour.put_pixel(tx, ty, *colour.get_pixel(u, v));
-                    let units = (q[2] / scale).round().min(f64::from(u16::MAX)) as u16;
+                    let units = (q[2] / metres).round().min(f64::from(u16::MAX)) as u16;
                     view.depth.put_pixel(tx, ty, Luma([units]));
                 }
             }
         }
     }
     Ok(view)
+}
+
+/// `intrinsics` of an image `scale` times as large in each direction
+/// (pixel centres at integers, so the principal point keeps its place on
+/// the image).
+fn scaled(intrinsics: Intrinsics, scale: f64) -> Result<Intrinsics, ReprojectError> {
+    if scale == 1.0 {
+        return Ok(intrinsics);
+    }
+    let centre = |c: f64| (c + 0.5) * scale - 0.5;
+    Intrinsics::new(
+        intrinsics.fx() * scale,
+        intrinsics.fy() * scale,
+        centre(intrinsics.cx()).max(0.0),
+        centre(intrinsics.cy()).max(0.0),
+    )
+    .map_err(|_| ReprojectError::Scale(scale))
+}
+
+/// What a second camera adds to a view of the first one's readings: its
+/// own depth noise and colour response. Applied by [`SecondSensor::apply`],
+/// deterministically for a seed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SecondSensor {
+    /// `c` of its own per-reading depth noise, `sigma = c z^2` (metres, `z`
+    /// in metres), independent of the first camera's.
+    pub depth_c: f64,
+    /// Largest error of each colour channel's gain (white balance), as a
+    /// share: each gain is drawn uniformly within 1 +- this.
+    pub white_balance: f64,
+    /// Largest error of the exposure (all channels' common gain), as a share.
+    pub exposure: f64,
+    /// Each pixel's colour noise, in levels of 255 (one sigma).
+    pub colour_sigma: f64,
+    pub seed: u64,
+}
+
+impl SecondSensor {
+    /// Puts this sensor's noise and colour response on `view`, whose depth
+    /// is in units of `metres_per_unit`. Holes stay holes; a reading the
+    /// noise would take to zero or below keeps one unit.
+    pub fn apply(&self, view: &mut Reprojection, metres_per_unit: f64) {
+        let mut rng = Gaussian::new(self.seed);
+        let exposure = 1.0 + self.exposure * rng.uniform_signed();
+        let gains: [f64; 3] =
+            std::array::from_fn(|_| exposure * (1.0 + self.white_balance * rng.uniform_signed()));
+        for p in view.colour.pixels_mut() {
+            for (c, g) in p.0.iter_mut().zip(gains) {
+                let level = f64::from(*c) * g + self.colour_sigma * rng.normal();
+                *c = level.round().clamp(0.0, 255.0) as u8;
+            }
+        }
+        for d in view.depth.pixels_mut() {
+            if d.0[0] == 0 {
+                continue;
+            }
+            let z = f64::from(d.0[0]) * metres_per_unit;
+            let noisy = z + self.depth_c * z * z * rng.normal();
+            d.0[0] = (noisy / metres_per_unit)
+                .round()
+                .clamp(1.0, f64::from(u16::MAX)) as u16;
+        }
+    }
+}
+
+/// Standard normal draws (Box-Muller over SplitMix64): reproducible for a
+/// seed on every machine.
+struct Gaussian {
+    state: u64,
+    spare: Option<f64>,
+}
+
+impl Gaussian {
+    fn new(seed: u64) -> Self {
+        Self {
+            state: seed,
+            spare: None,
+        }
+    }
+
+    /// Uniform in [0, 1).
+    fn uniform(&mut self) -> f64 {
+        self.state = self.state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in [-1, 1).
+    fn uniform_signed(&mut self) -> f64 {
+        2.0 * self.uniform() - 1.0
+    }
+
+    fn normal(&mut self) -> f64 {
+        if let Some(z) = self.spare.take() {
+            return z;
+        }
+        let r = (-2.0 * (1.0 - self.uniform()).ln()).sqrt();
+        let (s, c) = (std::f64::consts::TAU * self.uniform()).sin_cos();
+        self.spare = Some(r * s);
+        r * c
+    }
 }
 
 /// The value most pixels of `label` in `labels` map to through `of`
