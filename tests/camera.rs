@@ -243,10 +243,11 @@ fn match_pairs_an_osd_scene_with_itself_and_names_its_labels() {
 /// appearance alone once answered `ok` with the wrong box. The same
 /// holds when the person's camera is a second sensor: an image 0.75
 /// times the size, its own depth noise eight times the frame's, and its
-/// own white balance and exposure.
+/// own white balance and exposure; and when one object of a cluttered
+/// table (learn33) moved 0.2 m before the person looked.
 #[test]
 fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
-    use vref_perception::reproject::{SecondSensor, majority, reproject_scaled};
+    use vref_perception::reproject::{Moved, SecondSensor, Walk, majority, reproject_walked};
     let dir = tempfile::tempdir().unwrap();
     let defaults = dir.path().join("defaults.toml");
     std::fs::write(&defaults, "").unwrap();
@@ -258,26 +259,54 @@ fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
         colour_sigma: 2.0,
         seed: 1,
     };
-    for (scene, sensor) in [
-        ("learn25", false),
-        ("learn38", false),
-        ("learn25", true),
-        ("learn38", true),
+    for (scene, sensor, moving) in [
+        ("learn25", false, false),
+        ("learn38", false, false),
+        ("learn25", true, false),
+        ("learn38", true, false),
+        ("learn33", false, true),
     ] {
-        let pair = dir.path().join(format!("{scene}-{sensor}"));
+        let pair = dir.path().join(format!("{scene}-{sensor}-{moving}"));
         let robot = pair.join("robot");
         copy_frame(scene, &robot);
         osd_camera(&robot);
         let images = vref_perception::folder::RgbdImages::load(&robot, Default::default()).unwrap();
-        let scale = if sensor { 0.75 } else { 1.0 };
-        let mut view = reproject_scaled(
-            &images.colour,
-            &images.depth,
-            images.camera.intrinsics,
-            30.0,
-            scale,
-        )
-        .unwrap();
+        let objects = labels(&osd_scene(scene).join("label.png"));
+        let view_with = |moved: Option<Moved<'_>>| {
+            let walk = Walk {
+                yaw_deg: 30.0,
+                scale: if sensor { 0.75 } else { 1.0 },
+                moved,
+            };
+            reproject_walked(
+                &images.colour,
+                &images.depth,
+                images.camera.intrinsics,
+                &walk,
+            )
+        };
+        // The first of its objects that can move 0.2 m to a free place.
+        let mut view = if moving {
+            (2..100)
+                .find_map(|object| {
+                    let readings: Vec<bool> = objects
+                        .as_raw()
+                        .iter()
+                        .map(|&l| vref_testkit::osd_object(l) == object)
+                        .collect();
+                    let moved = Moved {
+                        readings: &readings,
+                        metres: 0.2,
+                    };
+                    readings
+                        .contains(&true)
+                        .then(|| view_with(Some(moved)).ok())
+                        .flatten()
+                })
+                .unwrap()
+        } else {
+            view_with(None).unwrap()
+        };
         if sensor {
             let c = vref_perception::pixel_noise(&images.depth).unwrap().c;
             second(c).apply(&mut view, images.depth.metres_per_unit());
@@ -312,7 +341,6 @@ fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
             LIMIT,
         )
         .ok();
-        let objects = labels(&osd_scene(scene).join("label.png"));
         let (robot_labels, human_labels) = (
             labels(&out.join("robot.png")),
             labels(&out.join("human.png")),
@@ -335,7 +363,7 @@ fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
             });
             assert!(
                 object.is_some() && named == object,
-                "{scene} (second sensor {sensor}): {line} names object {named:?}, not {object:?}"
+                "{scene} (second sensor {sensor}, moved {moving}): {line} names object {named:?}, not {object:?}"
             );
         }
     }

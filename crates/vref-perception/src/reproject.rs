@@ -25,7 +25,39 @@ pub enum ReprojectError {
     NothingOnIt,
     #[error("the view's scale {0} is not in (0, 1]")]
     Scale(f64),
+    #[error("the object to move has no reading on the frame")]
+    NothingToMove,
+    #[error("the moved object would land within {0} m of another")]
+    NotFree(f64),
 }
+
+/// Where the virtual camera stands, the image it takes, and what moved
+/// before it looked.
+#[derive(Debug, Clone, Copy)]
+pub struct Walk<'a> {
+    /// The turn about the supporting plane's normal, in degrees.
+    pub yaw_deg: f64,
+    /// Its image over the frame's, each way, in (0, 1]: a second camera
+    /// of coarser resolution (focal lengths and principal point scaled
+    /// alike).
+    pub scale: f64,
+    pub moved: Option<Moved<'a>>,
+}
+
+/// One object moved along the supporting plane, away from the centre of
+/// what stands on it, before the view is taken: the object that moved
+/// between the two views.
+#[derive(Debug, Clone, Copy)]
+pub struct Moved<'a> {
+    /// Which of the frame's pixels (row-major) are its readings.
+    pub readings: &'a [bool],
+    /// How far it moves, in metres.
+    pub metres: f64,
+}
+
+/// A moved object lands no nearer than this (metres, along the plane) to
+/// any reading of another object: a free place.
+pub const FREE: f64 = 0.1;
 
 /// The virtual view of a frame.
 #[derive(Debug, Clone)]
@@ -49,19 +81,23 @@ pub fn reproject(
     intrinsics: Intrinsics,
     yaw_deg: f64,
 ) -> Result<Reprojection, ReprojectError> {
-    reproject_scaled(colour, depth, intrinsics, yaw_deg, 1.0)
+    let walk = Walk {
+        yaw_deg,
+        scale: 1.0,
+        moved: None,
+    };
+    reproject_walked(colour, depth, intrinsics, &walk)
 }
 
-/// [`reproject`] into a camera whose image is `scale` (in (0, 1]) times
-/// the frame's in each direction, focal lengths and principal point
-/// scaled alike: a second camera of coarser resolution.
-pub fn reproject_scaled(
+/// [`reproject`] as `walk` says: at its yaw, into its camera, with its
+/// object moved.
+pub fn reproject_walked(
     colour: &RgbImage,
     depth: &DepthImage,
     intrinsics: Intrinsics,
-    yaw_deg: f64,
-    scale: f64,
+    walk: &Walk<'_>,
 ) -> Result<Reprojection, ReprojectError> {
+    let (yaw_deg, scale) = (walk.yaw_deg, walk.scale);
     if !(scale > 0.0 && scale <= 1.0) {
         return Err(ReprojectError::Scale(scale));
     }
@@ -96,6 +132,15 @@ pub fn reproject_scaled(
         return Err(ReprojectError::NothingOnIt);
     }
     let pivot = sum.map(|s| s / count);
+    let shift = match &walk.moved {
+        Some(m) => shift_of(m, &labels, plane.normal, pivot, &point)?,
+        None => [0.0; 3],
+    };
+    let moving = |at: usize| {
+        walk.moved
+            .as_ref()
+            .is_some_and(|m| m.readings.get(at) == Some(&true))
+    };
     // The camera turns by `yaw` about the normal through the pivot: the
     // points, seen from it, by the opposite turn.
     let turn = rotation(plane.normal, -yaw_deg.to_radians());
@@ -114,7 +159,10 @@ pub fn reproject_scaled(
     let (fw, fh) = colour.dimensions();
     for v in 0..fh {
         for u in 0..fw {
-            let Some(p) = point(u, v) else { continue };
+            let Some(mut p) = point(u, v) else { continue };
+            if moving((v * fw + u) as usize) {
+                (0..3).for_each(|k| p[k] += shift[k]);
+            }
             let q = moved(&turn, pivot, p);
             let Some([x, y]) = camera.project(q) else {
                 continue;
@@ -139,6 +187,108 @@ pub fn reproject_scaled(
         }
     }
     Ok(view)
+}
+
+/// How far `m`'s readings move: `m.metres` along the plane (normal
+/// `normal`), away from `pivot`; refused where they would land within
+/// [`FREE`] of a reading of another object (`labels` > 0).
+fn shift_of(
+    m: &Moved<'_>,
+    labels: &LabelImage,
+    normal: [f64; 3],
+    pivot: [f64; 3],
+    point: &impl Fn(u32, u32) -> Option<[f64; 3]>,
+) -> Result<[f64; 3], ReprojectError> {
+    let w = labels.width();
+    let is_mine = |u: u32, v: u32| m.readings.get((v * w + u) as usize) == Some(&true);
+    // The segments mostly made of the object's readings are it (with
+    // outline pixels its readings lack), not others.
+    let mut share = std::collections::HashMap::<u16, (usize, usize)>::new();
+    for (u, v, l) in labels.enumerate_pixels() {
+        let e = share.entry(l.0[0]).or_default();
+        e.0 += usize::from(is_mine(u, v));
+        e.1 += 1;
+    }
+    let its = |l: u16| share.get(&l).is_some_and(|&(a, b)| 2 * a >= b);
+    let (mut mine, mut others) = (Vec::new(), Vec::new());
+    for (u, v, l) in labels.enumerate_pixels() {
+        let Some(p) = point(u, v) else { continue };
+        if is_mine(u, v) {
+            mine.push(p);
+        } else if l.0[0] > 0 && !its(l.0[0]) {
+            others.push(p);
+        }
+    }
+    if mine.is_empty() {
+        return Err(ReprojectError::NothingToMove);
+    }
+    let along = |d: [f64; 3]| {
+        let h = d[0] * normal[0] + d[1] * normal[1] + d[2] * normal[2];
+        std::array::from_fn::<f64, 3, _>(|k| d[k] - h * normal[k])
+    };
+    let centre = mine
+        .iter()
+        .fold([0.0; 3], |c, p| std::array::from_fn(|k| c[k] + p[k]));
+    let out = along(std::array::from_fn(|k| {
+        centre[k] / mine.len() as f64 - pivot[k]
+    }));
+    let length = out.iter().map(|x| x * x).sum::<f64>().sqrt();
+    // An object at the centre moves along any direction in the plane.
+    let direction = if length > 1e-6 {
+        out.map(|x| x / length)
+    } else {
+        let a = along([1.0, 0.0, 0.0]);
+        let a = if a.iter().map(|x| x * x).sum::<f64>() > 1e-6 {
+            a
+        } else {
+            along([0.0, 1.0, 0.0])
+        };
+        let n = a.iter().map(|x| x * x).sum::<f64>().sqrt();
+        a.map(|x| x / n)
+    };
+    let shift = direction.map(|x| x * m.metres);
+    // Along the plane only: the cells of a grid of FREE / 2 the others
+    // occupy, and every cell within FREE of a moved reading.
+    let cell = FREE / 2.0;
+    let basis = plane_basis(normal);
+    let key = |p: [f64; 3]| {
+        let c = basis.map(|b| ((p[0] * b[0] + p[1] * b[1] + p[2] * b[2]) / cell).floor() as i64);
+        (c[0], c[1])
+    };
+    let occupied: std::collections::HashSet<(i64, i64)> = others.iter().map(|&p| key(p)).collect();
+    for p in &mine {
+        let (x, y) = key(std::array::from_fn(|k| p[k] + shift[k]));
+        for dx in -2..=2 {
+            for dy in -2..=2 {
+                if occupied.contains(&(x + dx, y + dy)) {
+                    return Err(ReprojectError::NotFree(FREE));
+                }
+            }
+        }
+    }
+    Ok(shift)
+}
+
+/// Two unit vectors that span the plane of unit normal `n`.
+fn plane_basis(n: [f64; 3]) -> [[f64; 3]; 2] {
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let unit = |a: [f64; 3]| {
+        let l = a.iter().map(|x| x * x).sum::<f64>().sqrt();
+        a.map(|x| x / l)
+    };
+    let seed = if n[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let e1 = unit(cross(n, seed));
+    [e1, cross(n, e1)]
 }
 
 /// `intrinsics` of an image `scale` times as large in each direction
