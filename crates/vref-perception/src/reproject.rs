@@ -62,7 +62,7 @@ pub const FREE: f64 = 0.1;
 /// The virtual view of a frame.
 #[derive(Debug, Clone)]
 pub struct Reprojection {
-    /// The virtual camera: the frame's, its image scaled ([`reproject_scaled`]).
+    /// The virtual camera: the frame's, its image scaled ([`Walk::scale`]).
     pub intrinsics: Intrinsics,
     pub colour: RgbImage,
     pub depth: DepthPixels,
@@ -199,10 +199,28 @@ fn shift_of(
     pivot: [f64; 3],
     point: &impl Fn(u32, u32) -> Option<[f64; 3]>,
 ) -> Result<[f64; 3], ReprojectError> {
+    let (mine, others) = readings_of(m, labels, point);
+    if mine.is_empty() {
+        return Err(ReprojectError::NothingToMove);
+    }
+    let shift = direction_out(&mine, normal, pivot).map(|x| x * m.metres);
+    if lands_free(&mine, &others, shift, normal) {
+        Ok(shift)
+    } else {
+        Err(ReprojectError::NotFree(FREE))
+    }
+}
+
+/// The points of `m`'s readings, and of the other objects' (the
+/// segments of `labels` not mostly made of `m`'s readings: a segment of
+/// the object has outline pixels its readings lack).
+fn readings_of(
+    m: &Moved<'_>,
+    labels: &LabelImage,
+    point: &impl Fn(u32, u32) -> Option<[f64; 3]>,
+) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     let w = labels.width();
     let is_mine = |u: u32, v: u32| m.readings.get((v * w + u) as usize) == Some(&true);
-    // The segments mostly made of the object's readings are it (with
-    // outline pixels its readings lack), not others.
     let mut share = std::collections::HashMap::<u16, (usize, usize)>::new();
     for (u, v, l) in labels.enumerate_pixels() {
         let e = share.entry(l.0[0]).or_default();
@@ -219,54 +237,48 @@ fn shift_of(
             others.push(p);
         }
     }
-    if mine.is_empty() {
-        return Err(ReprojectError::NothingToMove);
-    }
-    let along = |d: [f64; 3]| {
-        let h = d[0] * normal[0] + d[1] * normal[1] + d[2] * normal[2];
-        std::array::from_fn::<f64, 3, _>(|k| d[k] - h * normal[k])
-    };
-    let centre = mine
+    (mine, others)
+}
+
+/// The unit direction along the plane (normal `normal`) from `pivot` to
+/// the centre of `points`; any direction along it where they are centred
+/// on it.
+fn direction_out(points: &[[f64; 3]], normal: [f64; 3], pivot: [f64; 3]) -> [f64; 3] {
+    let k = points.len().max(1) as f64;
+    let sum = points
         .iter()
-        .fold([0.0; 3], |c, p| std::array::from_fn(|k| c[k] + p[k]));
-    let out = along(std::array::from_fn(|k| {
-        centre[k] / mine.len() as f64 - pivot[k]
-    }));
-    let length = out.iter().map(|x| x * x).sum::<f64>().sqrt();
-    // An object at the centre moves along any direction in the plane.
-    let direction = if length > 1e-6 {
+        .fold([0.0; 3], |c, p| std::array::from_fn(|i| c[i] + p[i]));
+    let d: [f64; 3] = std::array::from_fn(|i| sum[i] / k - pivot[i]);
+    let h = dot(d, normal);
+    let out: [f64; 3] = std::array::from_fn(|i| d[i] - h * normal[i]);
+    let length = dot(out, out).sqrt();
+    if length > 1e-6 {
         out.map(|x| x / length)
     } else {
-        let a = along([1.0, 0.0, 0.0]);
-        let a = if a.iter().map(|x| x * x).sum::<f64>() > 1e-6 {
-            a
-        } else {
-            along([0.0, 1.0, 0.0])
-        };
-        let n = a.iter().map(|x| x * x).sum::<f64>().sqrt();
-        a.map(|x| x / n)
-    };
-    let shift = direction.map(|x| x * m.metres);
-    // Along the plane only: the cells of a grid of FREE / 2 the others
-    // occupy, and every cell within FREE of a moved reading.
+        plane_basis(normal)[0]
+    }
+}
+
+/// Whether `mine` moved by `shift` lands with no point of `others`
+/// within [`FREE`] along the plane (normal `normal`): the cells of a grid
+/// of `FREE / 2` the others occupy against every cell within two of a
+/// moved point (so some places a little farther are refused too).
+fn lands_free(mine: &[[f64; 3]], others: &[[f64; 3]], shift: [f64; 3], normal: [f64; 3]) -> bool {
     let cell = FREE / 2.0;
     let basis = plane_basis(normal);
     let key = |p: [f64; 3]| {
-        let c = basis.map(|b| ((p[0] * b[0] + p[1] * b[1] + p[2] * b[2]) / cell).floor() as i64);
+        let c = basis.map(|b| (dot(p, b) / cell).floor() as i64);
         (c[0], c[1])
     };
     let occupied: std::collections::HashSet<(i64, i64)> = others.iter().map(|&p| key(p)).collect();
-    for p in &mine {
-        let (x, y) = key(std::array::from_fn(|k| p[k] + shift[k]));
-        for dx in -2..=2 {
-            for dy in -2..=2 {
-                if occupied.contains(&(x + dx, y + dy)) {
-                    return Err(ReprojectError::NotFree(FREE));
-                }
-            }
-        }
-    }
-    Ok(shift)
+    mine.iter().all(|p| {
+        let (x, y) = key(std::array::from_fn(|i| p[i] + shift[i]));
+        (-2..=2).all(|dx| (-2..=2).all(|dy| !occupied.contains(&(x + dx, y + dy))))
+    })
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Two unit vectors that span the plane of unit normal `n`.
