@@ -272,13 +272,24 @@ fn the_demo_answers_every_query_and_reports_its_accuracy() {
         (accuracy - correct as f64 / queries as f64).abs() < 1e-9,
         "{summary}"
     );
-    // The demo's world is the synthetic feeds' 8 objects: 2 of 200
-    // answers were wrong over ten such runs when this was written (a ray
-    // that took a neighbour, a `no_match` for an object with a partner).
-    // At that rate 4 or more wrong of 20 (accuracy below 0.85) has a
-    // chance of about 4e-5; a demo answering wrong fails here instead of
-    // printing a low accuracy.
-    assert!(accuracy >= 0.85, "{summary}");
+    let wrong_pointing = summary["wrong_pointing"].as_u64().unwrap();
+    let wrong_matching = summary["wrong_matching"].as_u64().unwrap();
+    assert_eq!(
+        wrong_pointing + wrong_matching,
+        queries - correct,
+        "every wrong answer has one cause: {summary}"
+    );
+    // The matcher is judged on its answers about the object pointed at.
+    // Where the ray takes a neighbour (2 degrees of pointing error, drawn
+    // once per 5 s gesture) it can do so for the whole gesture, so a 4 s
+    // run can have most of its answers wrong with no fault of the
+    // matcher: 11 of 750 answers of a 150 s demo, 6 of them in one
+    // gesture. The end-to-end accuracy failed an earlier bound of 0.85 in
+    // 3 of 14 runs of the eight service tests side by side. In 38 such
+    // runs since (760 answers), every wrong answer but two had the ray
+    // take a neighbour (the two: a lone `no_match` amid right answers), so
+    // 3 wrong of 20 about the object meant is a matcher that errs.
+    assert!(wrong_matching as f64 <= 0.15 * queries as f64, "{summary}");
 }
 
 /// `vref up` says where its services are, answers through them, and stops

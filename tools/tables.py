@@ -231,10 +231,16 @@ def query_table(rows, arg):
 def demo_table(rows, _arg):
     r = rows[0]
     statuses = ", ".join(f"{k} {v}" for k, v in sorted(r.get("statuses", {}).items()) if v)
-    return ["| queries | answered | correct | accuracy | round trip p50 / p99 | statuses | errors |",
-            "|---|---|---|---|---|---|---|",
-            f"| {r['queries']} | {r['answered']} | {r['correct']} | {r['accuracy']:.2f} | "
-            f"{ms(r['rtt_p50_us'])} / {ms(r['rtt_p99_us'])} | {statuses} | {r['errors']} |"]
+    # Wrong answers split by cause where the summary has it: the ray took
+    # a neighbour of the object meant (pointing), or the matcher erred.
+    split = "wrong_pointing" in r
+    head = "| queries | answered | correct | accuracy |"
+    head += " wrong: ray took a neighbour | wrong: about the object meant |" if split else ""
+    row = f"| {r['queries']} | {r['answered']} | {r['correct']} | {r['accuracy']:.2f} |"
+    row += f" {r['wrong_pointing']} | {r['wrong_matching']} |" if split else ""
+    return [head + " round trip p50 / p99 | statuses | errors |",
+            "|" + "---|" * (9 if split else 7),
+            row + f" {ms(r['rtt_p50_us'])} / {ms(r['rtt_p99_us'])} | {statuses} | {r['errors']} |"]
 
 
 def soak_table(rows, _arg):

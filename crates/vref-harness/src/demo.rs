@@ -160,6 +160,8 @@ struct JsonSummary {
     rtt_p99_us: u64,
     errors: u64,
     statuses: Statuses,
+    wrong_pointing: u64,
+    wrong_matching: u64,
 }
 
 /// Answers by status.
@@ -182,6 +184,11 @@ pub struct Summary {
     errors: u64,
     by_status: [u64; 6],
     rtt_us: Vec<u64>,
+    /// Wrong answers whose ray took another human object than the one
+    /// pointed at (the pointing's error, not the matcher's).
+    wrong_pointing: u64,
+    /// Wrong answers about the object pointed at: the matcher's errors.
+    wrong_matching: u64,
 }
 
 impl Summary {
@@ -218,6 +225,8 @@ impl Summary {
             rtt_p99_us: self.percentile(0.99),
             errors: self.errors,
             statuses,
+            wrong_pointing: self.wrong_pointing,
+            wrong_matching: self.wrong_matching,
         };
         serde_json::to_string(&line).unwrap_or_default()
     }
@@ -231,13 +240,16 @@ impl Summary {
             .collect();
         format!(
             "\nqueries {}, answered {}, correct {}, accuracy {:.3}, errors {}\n\
-             statuses: {}\nanswer round trip: p50 {} us, p99 {} us\n",
+             statuses: {}\nwrong: the ray took a neighbour {}, about the object meant {}\n\
+             answer round trip: p50 {} us, p99 {} us\n",
             self.queries,
             self.answered,
             self.correct,
             self.accuracy(),
             self.errors,
             statuses.join(", "),
+            self.wrong_pointing,
+            self.wrong_matching,
             self.percentile(0.5),
             self.percentile(0.99),
         )
@@ -289,6 +301,11 @@ fn query_loop(
                     let right = is_right(&answer, expected);
                     summary.answered += 1;
                     summary.correct += u64::from(right);
+                    if !right && took_neighbour(&answer, &gesture) {
+                        summary.wrong_pointing += 1;
+                    } else if !right {
+                        summary.wrong_matching += 1;
+                    }
                     summary.by_status[answer.status() as usize] += 1;
                     summary.rtt_us.push(rtt);
                     on_line(&line(t, &gesture, expected, &answer, right, rtt))
@@ -337,6 +354,11 @@ fn is_right(answer: &ReferenceAnswer, expected: Option<u64>) -> bool {
     }
 }
 
+/// Whether the ray of `g` took another human object than the one meant.
+fn took_neighbour(answer: &ReferenceAnswer, g: &Pointing) -> bool {
+    answer.human_object_id != 0 && answer.human_object_id != g.human_id
+}
+
 fn line(
     t: f64,
     g: &Pointing,
@@ -351,7 +373,7 @@ fn line(
     );
     let verdict = if right { "right" } else { "WRONG" };
     // The ray can take a neighbour of the object meant (a dense scene).
-    let took = if a.human_object_id != 0 && a.human_object_id != g.human_id {
+    let took = if took_neighbour(a, g) {
         format!(" (the ray took human {})", a.human_object_id)
     } else {
         String::new()
