@@ -6,7 +6,7 @@ mod common;
 
 use nalgebra::{Matrix3, Point3, Rotation3, Vector3};
 use vref_match::{
-    Calibration, Method, Params, Problem, RigidMotion, expected_calibration_error, logit,
+    Calibration, Method, OkRule, Params, Problem, RigidMotion, expected_calibration_error, logit,
     median_spacing, score_scene, solve,
 };
 use vref_scene::{Limits, SceneGraph, SceneObject};
@@ -574,7 +574,10 @@ fn a_stated_position_error_widens_that_pair_only() {
             .collect();
         SceneGraph::new(objects, None, &Limits::default()).unwrap()
     };
-    let params = Params::default();
+    // What the motion's costs pair: the pairing by look of objects they
+    // leave unpaired (an object that moved) is off.
+    let mut params = Params::default();
+    params.rigid.moved_look_gap = f64::INFINITY;
     let solve_with_stated = |stated: f64, use_stated: bool| {
         let mut params = params;
         params.rigid.stated_errors = use_stated;
@@ -588,6 +591,50 @@ fn a_stated_position_error_widens_that_pair_only() {
     assert!((0..10).all(|i| stated[i] == Some(i)), "{stated:?}");
     let ignored = solve_with_stated(4.0 * sigma, false);
     assert_eq!(ignored, unstated, "stated errors switched off");
+}
+
+/// An object moved between the views (0.5 m, far beyond any error) has
+/// no partner under the motion; where its look singles out the robot
+/// object the motion left unpaired too, that is its partner, never `ok`
+/// (confidence below the ambiguity threshold). With a look-alike among
+/// the robot's objects it keeps no partner.
+#[test]
+fn a_moved_object_is_paired_by_its_look_but_never_ok() {
+    let (rotation, translation) = known_motion();
+    let human = cloud();
+    let mut robot: Vec<_> = human.iter().map(|p| rotation * p + translation).collect();
+    robot[0] += Vector3::new(0.5, 0.0, 0.0);
+    let unique: Vec<Vec<f32>> = (0..10)
+        .map(|k| (0..10).map(|d| if d == k { 1.0 } else { 0.05 }).collect())
+        .collect();
+    let human_graph = graph(&human, 1..=10, &unique);
+    let params = Params::default();
+    let solve_with = |features: &[Vec<f32>]| {
+        let robot_graph = graph(&robot, 101..=110, features);
+        let problem = Problem::new(&human_graph, &robot_graph, params.beta).unwrap();
+        solve(Method::Rigid, &problem, &params).unwrap()
+    };
+    let unique_look = solve_with(&unique);
+    assert_eq!(
+        unique_look.assignment[0],
+        Some(0),
+        "{:?}",
+        unique_look.assignment
+    );
+    assert!(
+        unique_look.confidence[0] < OkRule::default().ambiguity_threshold,
+        "{}",
+        unique_look.confidence[0]
+    );
+    assert!((1..10).all(|i| unique_look.assignment[i] == Some(i)));
+    let mut alike = unique.clone();
+    alike[5] = unique[0].clone();
+    let look_alike = solve_with(&alike);
+    assert_eq!(
+        look_alike.assignment[0], None,
+        "{:?}",
+        look_alike.assignment
+    );
 }
 
 /// In camera frames (every z > 0) a stated error lies along the object's
@@ -630,7 +677,9 @@ fn a_stated_error_in_a_camera_frame_lies_along_the_ray() {
             })
             .collect();
         let robot_graph = SceneGraph::new(objects, None, &Limits::default()).unwrap();
-        let params = Params::default();
+        // What the motion's costs pair, without the pairing by look.
+        let mut params = Params::default();
+        params.rigid.moved_look_gap = f64::INFINITY;
         let problem = Problem::new(&human_graph, &robot_graph, params.beta).unwrap();
         solve(Method::Rigid, &problem, &params).unwrap().assignment
     };

@@ -10,6 +10,7 @@ mod coincidence;
 mod costs;
 mod log1p;
 mod motion;
+mod moved;
 mod noise;
 mod params;
 mod search;
@@ -251,6 +252,18 @@ pub(crate) fn solve_from(
         // on none, is not given as sure: at most `chance_cap`.
         if a.is_some() && !significant {
             *c = c.min(rp.chance_cap);
+        }
+    }
+    // Objects both views leave unpaired whose looks single each other out:
+    // an object moved between the views, which no motion explains, given
+    // the partner its look names, never as sure (docs/method.md, "An
+    // object that moved").
+    if motion.is_some() {
+        for (i, j) in
+            moved::partners_by_look(&problem.appearance, n, m, &assignment, rp.moved_look_gap)
+        {
+            assignment[i] = Some(j);
+            confidence[i] = rp.chance_cap;
         }
     }
     let residuals = crate::pair_residuals(problem, &assignment, motion.as_ref());

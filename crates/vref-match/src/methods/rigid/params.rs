@@ -149,6 +149,12 @@ pub struct RigidParams {
     /// The confidence a partner of a motion chance explains is capped at
     /// (below the matcher's ambiguity threshold, 0.5).
     pub chance_cap: f64,
+    /// Objects both views leave unpaired under the motion are paired where
+    /// their looks single each other out: each is the other's most alike
+    /// by at least this appearance affinity over every other object of
+    /// either view. Such a partner (an object moved between the views)
+    /// gets `chance_cap` as its confidence; infinite: never.
+    pub moved_look_gap: f64,
     /// The densest consistent cluster of candidate pairs (`clipper`) gives
     /// the search one more hypothesis in scenes of at most this many
     /// pairs (n x m); 0 never.
@@ -199,6 +205,7 @@ impl Default for RigidParams {
             evidence_fit: 8.0,
             evidence_floor: 4.25,
             chance_cap: 0.45,
+            moved_look_gap: 0.3,
 
             seed: 0x5eed,
             calibration: Calibration::default(),
@@ -284,6 +291,13 @@ impl RigidParams {
                 name: "rigid.chance_cap",
                 value: self.chance_cap,
                 expected: "in [0, 1]",
+            });
+        }
+        if !(self.moved_look_gap >= 0.0) {
+            return Err(MatchError::BadParameter {
+                name: "rigid.moved_look_gap",
+                value: self.moved_look_gap,
+                expected: "zero or positive (inf: never)",
             });
         }
         if !(0.0..=1.0).contains(&self.abstain_motion) {
