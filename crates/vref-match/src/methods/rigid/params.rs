@@ -293,7 +293,7 @@ impl RigidParams {
                 expected: "in [0, 1]",
             });
         }
-        if !(self.moved_look_gap >= 0.0) {
+        if self.moved_look_gap.is_nan() || self.moved_look_gap < 0.0 {
             return Err(MatchError::BadParameter {
                 name: "rigid.moved_look_gap",
                 value: self.moved_look_gap,
