@@ -315,17 +315,13 @@ fn match_across_viewpoints_of_real_readings_names_the_right_objects() {
         std::fs::create_dir_all(&human).unwrap();
         view.colour.save(human.join("rgb.png")).unwrap();
         view.depth.save(human.join("depth.png")).unwrap();
-        let k = view.intrinsics;
-        let (w, h) = view.colour.dimensions();
-        std::fs::write(
-            human.join("camera.json"),
-            serde_json::json!({
-                "fx": k.fx(), "fy": k.fy(), "cx": k.cx(), "cy": k.cy(),
-                "width": w, "height": h, "depth_scale_mm": 1.0,
-            })
-            .to_string(),
-        )
-        .unwrap();
+        let camera = vref_perception::folder::Camera {
+            intrinsics: view.intrinsics,
+            metres_per_unit: images.depth.metres_per_unit(),
+            size: Some(view.colour.dimensions()),
+            lens: None,
+        };
+        std::fs::write(human.join("camera.json"), camera.to_json()).unwrap();
         let out = pair.join("labels");
         let run = vref(
             &[

@@ -98,9 +98,28 @@ fn main() -> Result<()> {
 }
 
 /// The person's view of `images` as `view` states it (`objects`: the
-/// frame's OSD labels, which a moved object needs). Its source map (the
-/// truth) does not depend on the second sensor.
+/// frame's OSD labels, which a moved object needs), through the second
+/// sensor where it states one.
 fn view_of(images: &RgbdImages, view: &View, objects: Option<&LabelImage>) -> Result<Reprojection> {
+    let mut seen = walked(images, view, objects)?;
+    if let Some(seed) = view.sensor_seed {
+        let noise =
+            pixel_noise(&images.depth).ok_or("the frame's depth noise cannot be measured")?;
+        let sensor = SecondSensor {
+            depth_c: view.noise * noise.c,
+            white_balance: WHITE_BALANCE,
+            exposure: EXPOSURE,
+            colour_sigma: COLOUR_SIGMA,
+            seed,
+        };
+        sensor.apply(&mut seen, images.depth.metres_per_unit());
+    }
+    Ok(seen)
+}
+
+/// [`view_of`] without the second sensor: the camera walked (and the
+/// object moved). Its source map, the truth, is the sensor's too.
+fn walked(images: &RgbdImages, view: &View, objects: Option<&LabelImage>) -> Result<Reprojection> {
     let readings: Option<Vec<bool>> = match (view.moved, objects) {
         (Some((object, _)), Some(objects)) => Some(
             objects
@@ -120,25 +139,12 @@ fn view_of(images: &RgbdImages, view: &View, objects: Option<&LabelImage>) -> Re
             .zip(readings.as_deref())
             .map(|((_, metres), readings)| Moved { readings, metres }),
     };
-    let mut seen = reproject_walked(
+    Ok(reproject_walked(
         &images.colour,
         &images.depth,
         images.camera.intrinsics,
         &walk,
-    )?;
-    if let Some(seed) = view.sensor_seed {
-        let noise =
-            pixel_noise(&images.depth).ok_or("the frame's depth noise cannot be measured")?;
-        let sensor = SecondSensor {
-            depth_c: view.noise * noise.c,
-            white_balance: WHITE_BALANCE,
-            exposure: EXPOSURE,
-            colour_sigma: COLOUR_SIGMA,
-            seed,
-        };
-        sensor.apply(&mut seen, images.depth.metres_per_unit());
-    }
-    Ok(seen)
+    )?)
 }
 
 /// The OSD objects of `objects`, farthest from the image's centre first.
@@ -211,14 +217,14 @@ fn make(frame: &Path, out: &Path, how: View, metres: Option<f64>) -> Result<()> 
         colour.save(dir.join("rgb.png"))?;
         depth.save(dir.join("depth.png"))?;
     }
-    let depth_scale_mm = images.depth.metres_per_unit() * 1000.0;
-    let camera_json = |c: vref_perception::Intrinsics, (w, h): (u32, u32)| {
-        serde_json::json!({
-            "fx": c.fx(), "fy": c.fy(), "cx": c.cx(), "cy": c.cy(),
-            "width": w, "height": h,
-            "depth_scale_mm": depth_scale_mm,
-        })
-        .to_string()
+    let camera_json = |intrinsics, size| {
+        vref_perception::folder::Camera {
+            intrinsics,
+            metres_per_unit: images.depth.metres_per_unit(),
+            size: Some(size),
+            lens: None,
+        }
+        .to_json()
     };
     std::fs::write(
         out.join("camera.json"),
@@ -253,7 +259,7 @@ fn score(out: &Path) -> Result<()> {
     let human = labels(&out.join("labels/human.png"))?;
     let objects = out.join(OBJECTS_FILE);
     let objects = objects.is_file().then(|| labels(&objects)).transpose()?;
-    let view = view_of(&images, &how, objects.as_ref())?;
+    let view = walked(&images, &how, objects.as_ref())?;
     let source = |at: usize| view.source.get(at).copied().flatten();
     let truth = |label: u16| {
         majority(&human, label, MAJORITY, |at| {

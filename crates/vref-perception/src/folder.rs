@@ -117,6 +117,32 @@ pub struct Camera {
     pub lens: Option<crate::Distortion>,
 }
 
+impl Camera {
+    /// The `camera.json` that [`Camera::load`] reads back as this camera
+    /// (its size where it states one, its lens where it has one).
+    pub fn to_json(&self) -> String {
+        let k = &self.intrinsics;
+        let mut file = serde_json::json!({
+            "fx": k.fx(), "fy": k.fy(), "cx": k.cx(), "cy": k.cy(),
+            "depth_scale_mm": self.metres_per_unit * 1000.0,
+        });
+        if let Some((width, height)) = self.size {
+            file["width"] = width.into();
+            file["height"] = height.into();
+        }
+        if let Some(lens) = &self.lens {
+            let (model, d): (&str, &[f64]) = match lens {
+                crate::Distortion::PlumbBob(d) => ("plumb_bob", d),
+                crate::Distortion::Rational(d) => ("rational_polynomial", d),
+                crate::Distortion::Equidistant(d) => ("equidistant", d),
+            };
+            file["distortion_model"] = model.into();
+            file["d"] = d.into();
+        }
+        file.to_string()
+    }
+}
+
 #[derive(Debug, serde::Deserialize)]
 struct CameraFile {
     fx: f64,

@@ -222,3 +222,36 @@ fn rectifying_keeps_the_measured_depth_noise() {
         }
     }
 }
+
+/// A camera written by `Camera::to_json` reads back as the same camera:
+/// pinhole or with a lens of each model, with its size or without.
+#[test]
+fn a_camera_written_as_json_reads_back_the_same() {
+    let intrinsics = vref_perception::Intrinsics::new(FX, FX + 2.0, CX, CY).unwrap();
+    let lenses = [
+        None,
+        Some(barrel()),
+        Distortion::new(
+            "rational_polynomial",
+            &[0.1, -0.02, 0.001, 0.0, 0.0, 0.05, 0.0, 0.0],
+        )
+        .unwrap(),
+        Distortion::new("equidistant", &[0.01, 0.0, 0.0, 0.0]).unwrap(),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for lens in lenses {
+        for size in [None, Some((W, H))] {
+            let camera = vref_perception::folder::Camera {
+                intrinsics,
+                metres_per_unit: 0.0001,
+                size,
+                lens,
+            };
+            let path = dir.path().join("camera.json");
+            std::fs::write(&path, camera.to_json()).unwrap();
+            let (read, unread) = vref_perception::folder::Camera::read(&path).unwrap();
+            assert_eq!(read, camera, "{}", camera.to_json());
+            assert!(unread.is_empty(), "{unread:?}");
+        }
+    }
+}
