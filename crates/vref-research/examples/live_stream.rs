@@ -48,6 +48,7 @@ struct Tally {
     answers: usize,
     right_ok: usize,
     wrong_ok: usize,
+    right_no_match: usize,
     wrong_no_match: usize,
 }
 
@@ -57,6 +58,7 @@ impl Tally {
         match (verdict, right) {
             (Verdict::Ok, true) => self.right_ok += 1,
             (Verdict::Ok, false) => self.wrong_ok += 1,
+            (Verdict::NoMatch, true) => self.right_no_match += 1,
             (Verdict::NoMatch, false) => self.wrong_no_match += 1,
             _ => {}
         }
@@ -64,8 +66,8 @@ impl Tally {
 
     fn print(&self, name: &str) {
         println!(
-            "{name:6}  {:7}  {:8}  {:8}  {:14}",
-            self.answers, self.right_ok, self.wrong_ok, self.wrong_no_match
+            "{name:6}  {:7}  {:8}  {:8}  {:14}  {:14}",
+            self.answers, self.right_ok, self.wrong_ok, self.right_no_match, self.wrong_no_match
         );
     }
 }
@@ -108,7 +110,7 @@ fn main() -> anyhow::Result<()> {
             }
         }
     }
-    println!("solve   answers  right ok  wrong ok  wrong no_match");
+    println!("solve   answers  right ok  wrong ok  right no_match  wrong no_match");
     live.print("live");
     full.print("full");
     Ok(())
