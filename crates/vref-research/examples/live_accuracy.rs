@@ -26,6 +26,7 @@ use vref_match::{
     ECE_BINS, Method, Params, Problem, RigidMotion, Solution, Tier, expected_calibration_error,
     median_spacing, score_scene, solve,
 };
+use vref_research::live::view_graph;
 use vref_scene::{Limits, SceneGraph, Side};
 use vref_sim::LiveWorld;
 
@@ -226,15 +227,7 @@ fn views(
     frame: u64,
     how: &Observe,
 ) -> anyhow::Result<(SceneGraph, SceneGraph)> {
-    let view = |side| -> anyhow::Result<SceneGraph> {
-        let view = world.observe(side, t, frame);
-        let graph = view.graph(&how.limits)?;
-        if !how.up_vectors {
-            return Ok(graph);
-        }
-        let up = view.camera.direction_to_camera(&nalgebra::Vector3::z());
-        Ok(graph.with_up(Some([up.x, up.y, up.z]))?)
-    };
+    let view = |side| view_graph(world, side, t, frame, &how.limits, how.up_vectors);
     Ok((view(Side::Human)?, view(Side::Robot)?))
 }
 

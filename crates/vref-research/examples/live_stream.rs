@@ -16,8 +16,8 @@ use anyhow::Context;
 use clap::Parser;
 use vref_match::engine::Engine;
 use vref_match::{Method, OkRule, Params, Problem, Solution, Tier, Verdict, solve};
+use vref_research::live::view_graph;
 use vref_scene::{Limits, SceneGraph, Side};
-use vref_sim::LiveWorld;
 
 #[derive(Debug, Parser)]
 struct Args {
@@ -86,7 +86,14 @@ fn main() -> anyhow::Result<()> {
     for frame in 0..frames {
         for (k, side) in [Side::Human, Side::Robot].into_iter().enumerate() {
             let t = args.start + (frame as f64 + 0.5 * k as f64) * FRAME_S;
-            let graph = view(&world, side, t, frame, !args.no_up_vectors)?;
+            let graph = view_graph(
+                &world,
+                side,
+                t,
+                frame,
+                &Limits::default(),
+                !args.no_up_vectors,
+            )?;
             engine.update(side, &graph)?;
             latest[k] = Some(graph);
             let [Some(human), Some(robot)] = &latest else {
@@ -114,18 +121,6 @@ fn main() -> anyhow::Result<()> {
     live.print("live");
     full.print("full");
     Ok(())
-}
-
-/// The human view (objects in `t`'s frame `frame`) or the robot's, with
-/// its camera's up vector if `up`.
-fn view(world: &LiveWorld, side: Side, t: f64, frame: u64, up: bool) -> anyhow::Result<SceneGraph> {
-    let view = world.observe(side, t, frame);
-    let graph = view.graph(&Limits::default())?;
-    if !up {
-        return Ok(graph);
-    }
-    let u = view.camera.direction_to_camera(&nalgebra::Vector3::z());
-    Ok(graph.with_up(Some([u.x, u.y, u.z]))?)
 }
 
 /// Adds each human object's answer to `tally`; returns, per row, a line

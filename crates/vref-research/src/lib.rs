@@ -3,4 +3,5 @@
 //! this library holds what several of them share. No product crate
 //! depends on this one.
 
+pub mod live;
 pub mod truth;
